@@ -1,0 +1,27 @@
+#pragma once
+#include <cstddef>
+
+#include "mpm/bspline_weights.hpp"
+
+namespace shellfrac::mpm {
+
+// A view of one kind of particles that exchanges mass and momentum with the grid (thesis Types I, II,
+// III). The arrays belong to the caller (structure of arrays); optional ones may be null.
+struct ParticleSet {
+  size_t count = 0;
+  const Vec3* position = nullptr;
+  Vec3* velocity = nullptr;         // read by p2g, written by g2p
+  const double* mass = nullptr;
+  // Lagrangian force per particle, spread to the nodes with the transfer weights w_ip
+  // (the generalized control-point force of thesis Eq. 4.8).
+  const Vec3* force = nullptr;
+  // Eulerian stress term per particle: node i receives -S_p grad w_ip (thesis Eq. 2.17 with
+  // S_p = V_p^0 P F^T).
+  const Mat3* stress = nullptr;
+  // APIC affine velocity C_p (thesis Eq. 2.23, 2.25): read in p2g and written in g2p when non-null.
+  Mat3* affine = nullptr;
+  // Grid velocity gradient sum_i v_i grad w_ip^T at the particle, written in g2p when non-null.
+  Mat3* velocity_gradient = nullptr;
+};
+
+}  // namespace shellfrac::mpm

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs the Debian packages shellfrac needs to build, test and benchmark.
+# Installs only what is missing; runs non-interactively; safe to run repeatedly.
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libeigen3-dev          # linear algebra (nurbs, shell, mpm)
+  nlohmann-json3-dev     # scene files, summary.json
+  libcli11-dev           # command-line parsing
+  libtbb-dev             # threads
+  libassimp-dev          # mesh export (OBJ and every assimp format)
+  libgtest-dev libgmock-dev  # tests
+  libbenchmark-dev       # micro-benchmarks
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all ${#packages[@]} packages already installed"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+  if command -v sudo >/dev/null 2>&1; then SUDO="sudo"; else
+    echo "setup: need root (or sudo) to install: ${missing[*]}" >&2; exit 1
+  fi
+fi
+
+echo "setup: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

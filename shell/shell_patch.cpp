@@ -1,0 +1,225 @@
+#include "shell/shell_patch.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <array>
+#include <limits>
+#include <cmath>
+#include <stdexcept>
+
+namespace shellfrac::shell {
+
+namespace {
+constexpr int kBasisStride = 6;  // R, R_1, R_2, R_11, R_12, R_22 per support control point
+constexpr int kMaxSupport = 64;  // (p+1)(q+1) for degrees up to 7
+}  // namespace
+
+ShellPatch::ShellPatch(const nurbs::NurbsSurface& reference, const ShellMaterial& material,
+                       const QuadratureRule& rule)
+    : reference_(reference), material_(material), layers_(thickness_layers(rule.layers, material.thickness)) {
+  if (!(material.thickness > 0) || !(material.density > 0) || !(material.mu > 0))
+    throw std::invalid_argument("shell material needs thickness, density and shear modulus > 0");
+  x = reference_.control_points().empty() ? std::vector<Vec3>{}
+                                          : std::vector<Vec3>(reference_.control_points().begin(),
+                                                              reference_.control_points().end());
+  v.assign(x.size(), Vec3::Zero());
+  force.assign(x.size(), Vec3::Zero());
+  build_quadrature(rule);
+  build_masses();
+  build_force_gather();
+}
+
+nurbs::NurbsSurface ShellPatch::current_surface() const {
+  return nurbs::NurbsSurface(reference_.knots_u(), reference_.knots_v(),
+                             nurbs::Vec3List(x.begin(), x.end()), reference_.weights());
+}
+
+void ShellPatch::build_quadrature(const QuadratureRule& rule) {
+  const auto& ku = reference_.knots_u();
+  const auto& kv = reference_.knots_v();
+  const int p = ku.degree(), q = kv.degree(), nu = reference_.num_u();
+  support_size_ = (p + 1) * (q + 1);
+  if (support_size_ > kMaxSupport) throw std::invalid_argument("patch degree too high for the shell solver (max 7)");
+  const GaussRule g = gauss_legendre(rule.points_per_direction);
+  points_per_cell_ = g.x.size() * g.x.size();
+
+  nurbs::SurfaceBasis basis;
+  for (int jv = q; jv < reference_.num_v(); ++jv) {
+    const double v0 = kv[jv], v1 = kv[jv + 1];
+    if (!(v1 > v0)) continue;
+    for (int iu = p; iu < nu; ++iu) {
+      const double u0 = ku[iu], u1 = ku[iu + 1];
+      if (!(u1 > u0)) continue;
+      ++num_cells_;
+      for (int b = 0; b <= q; ++b)
+        for (int a = 0; a <= p; ++a) support_.push_back((iu - p + a) + nu * (jv - q + b));
+      for (size_t gj = 0; gj < g.x.size(); ++gj)
+        for (size_t gi = 0; gi < g.x.size(); ++gi) {
+          const double u = u0 + 0.5 * (g.x[gi] + 1.0) * (u1 - u0);
+          const double w = v0 + 0.5 * (g.x[gj] + 1.0) * (v1 - v0);
+          const double area_weight = 0.25 * g.w[gi] * g.w[gj] * (u1 - u0) * (v1 - v0);
+          param_.emplace_back(u, w);
+          reference_.rational_basis(u, w, basis);
+          const size_t base = basis_.size();
+          basis_.resize(base + static_cast<size_t>(support_size_ * kBasisStride), 0.0);
+          for (int k = 0; k < basis.count; ++k) {
+            const int idx = basis.index[static_cast<size_t>(k)];
+            const int local = (idx % nu - (iu - p)) + (p + 1) * (idx / nu - (jv - q));
+            double* d = &basis_[base + static_cast<size_t>(local * kBasisStride)];
+            d[0] = basis.R[static_cast<size_t>(k)];
+            d[1] = basis.Ru[static_cast<size_t>(k)];
+            d[2] = basis.Rv[static_cast<size_t>(k)];
+            d[3] = basis.Ruu[static_cast<size_t>(k)];
+            d[4] = basis.Ruv[static_cast<size_t>(k)];
+            d[5] = basis.Rvv[static_cast<size_t>(k)];
+          }
+          // Reference KL basis and volume of each layer point: V_q = w |det Gbar| (thesis Eq. 4.6).
+          const Vec3* pts[kMaxSupport];
+          const int* sup = &support_[(num_cells_ - 1) * static_cast<size_t>(support_size_)];
+          for (int s = 0; s < support_size_; ++s) pts[s] = &x[static_cast<size_t>(sup[s])];
+          const SurfaceJet jet = surface_jet(pts, &basis_[base + 1], support_size_, kBasisStride);
+          NormalJet nj;
+          if (!normal_jet(jet, nj))
+            throw std::invalid_argument("patch is degenerate (parallel tangents) at parameter (" +
+                                        std::to_string(u) + ", " + std::to_string(w) + ")");
+          for (size_t l = 0; l < layers_.xi3.size(); ++l) {
+            const ReferenceLayer ref = reference_layer(kl_basis(jet, nj, layers_.xi3[l]));
+            ref_.push_back(ref);
+            volume_.push_back(area_weight * layers_.w[l] * ref.sqrt_det);
+          }
+        }
+    }
+  }
+}
+
+void ShellPatch::build_masses() {
+  // Consistent-row-sum lumped mass: m_s = rho sum_q V_q R_s(xi_q).
+  mass.assign(x.size(), 0.0);
+  const size_t L = layers_.xi3.size();
+  for (size_t q = 0; q < param_.size(); ++q) {
+    double vq = 0;
+    for (size_t l = 0; l < L; ++l) vq += volume_[q * L + l];
+    const int* sup = support(cell_of(q));
+    for (int s = 0; s < support_size_; ++s)
+      mass[static_cast<size_t>(sup[s])] +=
+          material_.density * vq * basis_[(q * support_size_ + static_cast<size_t>(s)) * kBasisStride];
+  }
+}
+
+void ShellPatch::build_force_gather() {
+  cell_force_.assign(num_cells_ * static_cast<size_t>(support_size_), Vec3::Zero());
+  gather_offsets_.assign(x.size() + 1, 0);
+  for (int c : support_) ++gather_offsets_[static_cast<size_t>(c) + 1];
+  for (size_t i = 0; i < x.size(); ++i) gather_offsets_[i + 1] += gather_offsets_[i];
+  gather_.resize(support_.size());
+  std::vector<int> cursor(gather_offsets_.begin(), gather_offsets_.end() - 1);
+  for (size_t k = 0; k < support_.size(); ++k) gather_[static_cast<size_t>(cursor[static_cast<size_t>(support_[k])]++)] = static_cast<int>(k);
+}
+
+ForceFailure ShellPatch::compute_forces() {
+  const size_t L = layers_.xi3.size();
+  const double mu = material_.mu, lambda = material_.lambda;
+  const TransverseModel model = material_.transverse;
+  std::vector<unsigned char> cell_failed(num_cells_, 0);
+
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, num_cells_, 16), [&](const tbb::blocked_range<size_t>& r) {
+    const Vec3* pts[kMaxSupport];
+    for (size_t c = r.begin(); c != r.end(); ++c) {
+      const int* sup = support(c);
+      for (int s = 0; s < support_size_; ++s) pts[s] = &x[static_cast<size_t>(sup[s])];
+      Vec3* out = &cell_force_[c * static_cast<size_t>(support_size_)];
+      for (int s = 0; s < support_size_; ++s) out[s].setZero();
+      for (size_t q = c * points_per_cell_; q < (c + 1) * points_per_cell_; ++q) {
+        const double* d = &basis_[q * static_cast<size_t>(support_size_) * kBasisStride];
+        const SurfaceJet jet = surface_jet(pts, d + 1, support_size_, kBasisStride);
+        NormalJet nj;
+        if (!normal_jet(jet, nj)) {
+          cell_failed[c] = 1;
+          break;
+        }
+        // dPsi/dg_alpha summed over layers (K) and weighted by xi3 (C); the KL in-plane stress has no
+        // g_3 component, so dPsi/dg_3 = 0 (thesis Eq. 4.14).
+        Vec3 K1 = Vec3::Zero(), K2 = Vec3::Zero(), C1 = Vec3::Zero(), C2 = Vec3::Zero();
+        for (size_t l = 0; l < L; ++l) {
+          const double xi3 = layers_.xi3[l];
+          const Vec3 g1 = jet.a1 + xi3 * nj.dn1, g2 = jet.a2 + xi3 * nj.dn2;
+          const InPlaneStress st = neo_hookean_in_plane(g1, g2, ref_[q * L + l], mu, lambda, model);
+          if (!st.ok) {
+            cell_failed[c] = 1;
+            break;
+          }
+          // dPsi/dg_alpha = V tau^{alpha beta} g_beta (P~ : dF = tau^{ab} g_b . dg_a)
+          const double V = volume_[q * L + l];
+          const Vec3 k1 = V * (st.t11 * g1 + st.t12 * g2);
+          const Vec3 k2 = V * (st.t12 * g1 + st.t22 * g2);
+          K1 += k1;
+          K2 += k2;
+          C1 += xi3 * k1;
+          C2 += xi3 * k2;
+        }
+        if (cell_failed[c]) break;
+        const JetGradient gr = kl_basis_adjoint(jet, nj, K1, K2, C1, C2, Vec3::Zero());
+        for (int s = 0; s < support_size_; ++s) {
+          const double* ds = d + s * kBasisStride;
+          out[s] -= ds[1] * gr.a1 + ds[2] * gr.a2 + ds[3] * gr.a11 + ds[4] * gr.a12 + ds[5] * gr.a22;
+        }
+      }
+    }
+  });
+
+  ForceFailure failure;
+  for (size_t c = 0; c < num_cells_; ++c) {
+    if (!cell_failed[c]) continue;
+    failure.failed = true;
+    failure.quadrature_point = c * points_per_cell_;
+    failure.parameter = param_[failure.quadrature_point];
+    failure.reason = "degenerate or collapsed shell element (area ratio <= 0) in cell " + std::to_string(c);
+    return failure;
+  }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, x.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      Vec3 f = Vec3::Zero();
+      for (int k = gather_offsets_[i]; k < gather_offsets_[i + 1]; ++k) f += cell_force_[static_cast<size_t>(gather_[static_cast<size_t>(k)])];
+      force[i] = f;
+    }
+  });
+  return failure;
+}
+
+double ShellPatch::elastic_energy() const {
+  const size_t L = layers_.xi3.size();
+  std::vector<double> per_point(param_.size(), 0.0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, num_cells_, 16), [&](const tbb::blocked_range<size_t>& r) {
+    const Vec3* pts[kMaxSupport];
+    for (size_t c = r.begin(); c != r.end(); ++c) {
+      const int* sup = support(c);
+      for (int s = 0; s < support_size_; ++s) pts[s] = &x[static_cast<size_t>(sup[s])];
+      for (size_t q = c * points_per_cell_; q < (c + 1) * points_per_cell_; ++q) {
+        const double* d = &basis_[q * static_cast<size_t>(support_size_) * kBasisStride];
+        const SurfaceJet jet = surface_jet(pts, d + 1, support_size_, kBasisStride);
+        NormalJet nj;
+        if (!normal_jet(jet, nj)) {
+          per_point[q] = std::numeric_limits<double>::quiet_NaN();
+          continue;
+        }
+        for (size_t l = 0; l < L; ++l) {
+          const double xi3 = layers_.xi3[l];
+          per_point[q] += volume_[q * L + l] *
+                          neo_hookean_in_plane_energy(jet.a1 + xi3 * nj.dn1, jet.a2 + xi3 * nj.dn2, ref_[q * L + l],
+                                                      material_.mu, material_.lambda, material_.transverse);
+        }
+      }
+    }
+  });
+  double e = 0;
+  for (double v : per_point) e += v;
+  return e;
+}
+
+double ShellPatch::reference_volume() const {
+  double V = 0;
+  for (double v : volume_) V += v;
+  return V;
+}
+
+}  // namespace shellfrac::shell

@@ -1,0 +1,133 @@
+#include "sim/run.hpp"
+
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <chrono>
+#include <cmath>
+#include <ostream>
+#include <sstream>
+
+#include "render_mesh/atomic_write.hpp"
+#include "render_mesh/exporter.hpp"
+#include "sim/progress.hpp"
+#include "sim/scene_error.hpp"
+#include "sim/simulation.hpp"
+#include "sim/version.hpp"
+
+namespace shellfrac::sim {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string frame_stem(int frame) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "frame_%05d", frame);
+  return buf;
+}
+
+}  // namespace
+
+std::string describe_scene(const Scene& scene) {
+  std::ostringstream os;
+  int control_points = 0;
+  for (const Shell& s : scene.shells) control_points += s.surface.num_u() * s.surface.num_v();
+  os << "scene \"" << scene.name << "\": " << scene.shells.size() << " shell(s), " << control_points
+     << " control points, " << scene.colliders.size() << " collider(s), " << scene.pins.size() << " pin(s), end time "
+     << scene.time.end << " s at " << scene.time.frame_rate << " frames/s, output " << scene.output.format << " at "
+     << scene.output.resolution_u << " x " << scene.output.resolution_v << " quads per patch\n";
+  for (const Shell& s : scene.shells)
+    os << "  " << s.name << ": " << s.shape << " patch, " << s.surface.num_u() << " x " << s.surface.num_v()
+       << " control points (degree " << s.surface.knots_u().degree() << " x " << s.surface.knots_v().degree() << ", "
+       << s.surface.knots_u().num_spans() << " x " << s.surface.knots_v().num_spans() << " cells)"
+       << (s.surface.is_rational() ? ", rational" : "") << ", thickness " << s.thickness << " m, "
+       << s.material.model << " E=" << s.material.youngs_modulus << " nu=" << s.material.poisson_ratio
+       << " rho=" << s.material.density << "\n";
+  return os.str();
+}
+
+nlohmann::json run_scene(const Scene& scene, const RunOptions& options, std::ostream& log) {
+  const auto start = std::chrono::steady_clock::now();
+  const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+  tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+
+  Simulation sim(scene);  // may throw SceneError (e.g. dt above the stability bound) before any output
+
+  const fs::path frames_dir = options.out_dir / "frames";
+  std::error_code ec;
+  fs::create_directories(frames_dir, ec);
+  if (ec) throw std::runtime_error("cannot create output directory " + frames_dir.string() + ": " + ec.message());
+
+  const int last_frame = static_cast<int>(std::floor(scene.time.end * scene.time.frame_rate + 1e-9));
+  nlohmann::json frames = nlohmann::json::array();
+  double penetration = 0, peak_kinetic = 0;
+  StageTimer output_timer;
+  auto write_frame = [&](int f) {
+    auto scope = output_timer.time("output");
+    const auto meshes = sim.render_meshes();
+    penetration = std::max(penetration, sim.collider_penetration(meshes));
+    const fs::path written = render_mesh::export_meshes(meshes, frames_dir, frame_stem(f), scene.output.format);
+    frames.push_back(fs::relative(written, options.out_dir).string());
+  };
+
+  nlohmann::json summary;
+  summary["shellfrac_version"] = kVersion;
+  summary["scene"] = scene.name;
+  summary["scene_source"] = scene.source;
+  summary["threads"] = threads;
+  auto finish_summary = [&](const std::string& status) {
+    summary["status"] = status;
+    summary["steps"] = sim.steps();
+    summary["dt"] = sim.steps() ? nlohmann::json(sim.max_dt()) : nlohmann::json(nullptr);
+    summary["dt_min"] = sim.steps() ? nlohmann::json(sim.min_dt()) : nlohmann::json(nullptr);
+    summary["stable_dt_bound"] = scene.time.cfl * sim.elastic_wave_bound();
+    summary["grid_dx"] = sim.dx();
+    summary["simulated_seconds"] = sim.time();
+    summary["frames"] = frames;
+    summary["particle_counts"] = {{"control_points", sim.num_control_points()},
+                                  {"quadrature_points", sim.num_quadrature_points()}};
+    nlohmann::json stages = nlohmann::json::object();
+    double step_seconds = 0;
+    for (const auto& [name, seconds] : sim.timer().seconds()) {
+      stages[name] = seconds;
+      step_seconds += seconds;
+    }
+    for (const auto& [name, seconds] : output_timer.seconds()) stages[name] = seconds;
+    summary["stage_seconds"] = stages;
+    nlohmann::json metrics = nlohmann::json::object();
+    metrics["max_collider_penetration"] = penetration;
+    metrics["max_collider_penetration_cells"] = penetration / sim.dx();
+    metrics["peak_kinetic_energy"] = peak_kinetic;
+    metrics["final_kinetic_energy"] = sim.kinetic_energy();
+    if (step_seconds > 0) {
+      const double qps = static_cast<double>(sim.num_quadrature_points()) * static_cast<double>(sim.steps()) / step_seconds;
+      metrics["quadrature_point_steps_per_second"] = qps;
+      metrics["quadrature_point_steps_per_second_per_core"] = qps / threads;
+    }
+    summary["metrics"] = metrics;
+    summary["wall_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    render_mesh::write_file_atomically(options.out_dir / "summary.json", summary.dump(2) + "\n");
+  };
+
+  Progress progress(log, options.interactive, scene.time.end > 0 ? scene.time.end : 1.0, "s");
+  try {
+    write_frame(0);
+    for (int f = 1; f <= last_frame; ++f) {
+      sim.advance_to(f / scene.time.frame_rate);
+      peak_kinetic = std::max(peak_kinetic, sim.kinetic_energy());
+      write_frame(f);
+      progress.update(sim.time(), "frame " + std::to_string(f) + "/" + std::to_string(last_frame) + ", step " +
+                                      std::to_string(sim.steps()));
+    }
+  } catch (const NumericalError& e) {
+    summary["error"] = e.what();
+    finish_summary("failed");
+    throw;
+  }
+  progress.finish(std::to_string(last_frame + 1) + " frames, " + std::to_string(sim.steps()) + " steps");
+  finish_summary("completed");
+  return summary;
+}
+
+}  // namespace shellfrac::sim

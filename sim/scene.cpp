@@ -1,0 +1,273 @@
+#include "sim/scene.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "nurbs/knot_insertion.hpp"
+#include "nurbs/nurbs_error.hpp"
+#include "nurbs/patch_builders.hpp"
+#include "render_mesh/exporter.hpp"
+#include "sim/json_reader.hpp"
+#include "sim/scene_parts.hpp"
+
+namespace shellfrac::sim {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+const Range kCells = Range::closed(1, 10000);
+
+nurbs::Vec3 to_vec3(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
+
+// Origin and in-plane axes of a built-in patch; axes are normalised and must be orthogonal.
+nurbs::Frame read_frame(ObjectReader& r) {
+  nurbs::Frame f;
+  f.origin = to_vec3(r.numbers_or("origin", {0, 0, 0}));
+  const nurbs::Vec3 u = to_vec3(r.numbers_or("axis_u", {1, 0, 0}));
+  const nurbs::Vec3 v = to_vec3(r.numbers_or("axis_v", {0, 1, 0}));
+  if (u.norm() < 1e-12) r.fail("axis_u", "axis must be a non-zero vector");
+  if (v.norm() < 1e-12) r.fail("axis_v", "axis must be a non-zero vector");
+  f.axis_u = u.normalized();
+  f.axis_v = v.normalized();
+  const double c = f.axis_u.dot(f.axis_v);
+  if (std::abs(c) > 1e-9)
+    r.fail("axis_v", "axis_v must be orthogonal to axis_u (their cosine is " + std::to_string(c) +
+                         ")");
+  return f;
+}
+
+double read_sweep(ObjectReader& r) {
+  return r.number_or("sweep_degrees", 360.0, Range::left_open(0.0, 360.0)) * kPi / 180.0;
+}
+
+nurbs::KnotVector read_knots(ObjectReader& r, const std::string& key, int degree) {
+  std::vector<double> k = r.number_list(key, 2);
+  try {
+    return nurbs::KnotVector(std::move(k), degree);
+  } catch (const nurbs::NurbsError& e) {
+    r.fail(key, e.what());
+  }
+}
+
+nurbs::NurbsSurface read_control_net(ObjectReader& r) {
+  const std::vector<int> degree = r.integers("degree", 2, Range::closed(1, 10));
+  nurbs::KnotVector ku = read_knots(r, "knots_u", degree[0]);
+  nurbs::KnotVector kv = read_knots(r, "knots_v", degree[1]);
+  const size_t expected = static_cast<size_t>(ku.num_basis()) * static_cast<size_t>(kv.num_basis());
+
+  const Json& pts = r.array("control_points");
+  if (pts.size() != expected)
+    r.fail("control_points", "control net has " + std::to_string(pts.size()) +
+                                 " points but degree and knots require " +
+                                 std::to_string(ku.num_basis()) + " x " +
+                                 std::to_string(kv.num_basis()) + " = " + std::to_string(expected) +
+                                 " (u runs fastest)");
+  nurbs::Vec3List points;
+  points.reserve(expected);
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const std::string p = r.child_path("control_points") + "/" + std::to_string(i);
+    const Json& c = pts[i];
+    if (!c.is_array() || c.size() != 3)
+      throw SceneError(r.file(), p, "expected a point [x, y, z]");
+    nurbs::Vec3 x;
+    for (int d = 0; d < 3; ++d) {
+      if (!c[static_cast<size_t>(d)].is_number() ||
+          !std::isfinite(c[static_cast<size_t>(d)].get<double>()))
+        throw SceneError(r.file(), p + "/" + std::to_string(d), "expected a finite number");
+      x[d] = c[static_cast<size_t>(d)].get<double>();
+    }
+    points.push_back(x);
+  }
+
+  std::vector<double> weights(expected, 1.0);
+  if (r.has("weights")) {
+    weights = r.number_list("weights", 0, Range::positive());
+    if (weights.size() != expected)
+      r.fail("weights", "expected one weight per control point (" + std::to_string(expected) +
+                            "), got " + std::to_string(weights.size()));
+  }
+  const std::vector<int> refine = r.integers_or("refine", {1, 1}, Range::closed(1, 64));
+
+  nurbs::NurbsSurface surface = [&] {
+    try {
+      return nurbs::NurbsSurface(std::move(ku), std::move(kv), std::move(points), std::move(weights));
+    } catch (const nurbs::NurbsError& e) {
+      r.fail_here(e.what());
+    }
+  }();
+  if (refine[0] == 1 && refine[1] == 1) return surface;
+
+  // Split every non-empty span into `refine` equal parts by knot insertion (geometry unchanged).
+  auto splits = [](const nurbs::KnotVector& k, int parts) {
+    std::vector<double> ins;
+    for (int i = k.degree(); i < k.num_basis(); ++i) {
+      const double a = k[i], b = k[i + 1];
+      if (b <= a) continue;
+      for (int s = 1; s < parts; ++s) ins.push_back(a + (b - a) * s / parts);
+    }
+    return ins;
+  };
+  return nurbs::insert_knots(surface, splits(surface.knots_u(), refine[0]),
+                             splits(surface.knots_v(), refine[1]))
+      .surface;
+}
+
+nurbs::NurbsSurface read_patch(ObjectReader& r, std::string& shape) {
+  shape = r.choice("type", {"flat", "cylinder", "cone", "control_net"});
+  try {
+    if (shape == "flat") {
+      const auto size = r.numbers("size", 2, Range::positive());
+      const auto cells = r.integers("cells", 2, kCells);
+      const nurbs::Frame frame = read_frame(r);
+      return nurbs::flat_patch(size[0], size[1], cells[0], cells[1], frame);
+    }
+    if (shape == "cylinder") {
+      const double radius = r.number("radius", Range::positive());
+      const double height = r.number("height", Range::positive());
+      const double sweep = read_sweep(r);
+      const auto cells = r.integers("cells", 2, kCells);
+      const nurbs::Frame frame = read_frame(r);
+      return nurbs::cylinder_segment(radius, height, sweep, cells[0], cells[1], frame);
+    }
+    if (shape == "cone") {
+      const double r0 = r.number("radius_bottom", Range::non_negative());
+      const double r1 = r.number("radius_top", Range::non_negative());
+      if (r0 == 0 && r1 == 0) r.fail("radius_top", "a cone needs at least one radius > 0");
+      const double height = r.number("height", Range::positive());
+      const double sweep = read_sweep(r);
+      const auto cells = r.integers("cells", 2, kCells);
+      const nurbs::Frame frame = read_frame(r);
+      return nurbs::cone_segment(r0, r1, height, sweep, cells[0], cells[1], frame);
+    }
+    return read_control_net(r);
+  } catch (const nurbs::NurbsError& e) {
+    r.fail_here(e.what());
+  }
+}
+
+Material read_material(ObjectReader r) {
+  Material m;
+  m.model = r.choice_or("model", "neo_hookean", {"neo_hookean"});
+  m.youngs_modulus = r.number("E", Range::positive());
+  m.poisson_ratio = r.number("nu", Range::open(-1.0, 0.5));
+  m.density = r.number("density", Range::positive());
+  const std::string transverse = r.choice_or("transverse", "condensed", {"condensed", "rigid"});
+  m.transverse = transverse == "rigid" ? shell::TransverseModel::Rigid : shell::TransverseModel::Condensed;
+  r.finish();
+  return m;
+}
+
+Shell read_shell(ObjectReader r, size_t index) {
+  std::string name = r.string_or("name", "shell" + std::to_string(index));
+  std::string shape;
+  ObjectReader patch = r.object("patch");
+  nurbs::NurbsSurface surface = read_patch(patch, shape);
+  patch.finish();
+  const double thickness = r.number("thickness", Range::positive());
+  Material material = read_material(r.object("material"));
+  shell::QuadratureRule quadrature;
+  if (auto q = r.optional_object("quadrature")) {
+    quadrature.points_per_direction = q->integer_or("points", 4, Range::closed(1, 5));
+    quadrature.layers = q->integer_or("layers", 3, Range::closed(1, 3));
+    if (quadrature.layers == 2) q->fail("layers", "layers must be 1 (membrane only) or 3 (lower, mid, upper)");
+    q->finish();
+  }
+  const auto v0 = r.numbers_or("initial_velocity", {0, 0, 0});
+  r.finish();
+  return Shell{std::move(name), std::move(shape), std::move(surface), thickness, std::move(material),
+               quadrature, Eigen::Vector3d(v0[0], v0[1], v0[2])};
+}
+
+TimeSettings read_time(ObjectReader r) {
+  TimeSettings t;
+  t.end = r.number_or("end", t.end, Range::non_negative());
+  t.frame_rate = r.number_or("frame_rate", t.frame_rate, Range::positive());
+  if (r.has("dt")) t.dt = r.number("dt", Range::positive());
+  t.cfl = r.number_or("cfl", t.cfl, Range::left_open(0.0, 1.0));
+  t.allow_substepping = r.boolean_or("allow_substepping", t.allow_substepping);
+  r.finish();
+  return t;
+}
+
+OutputSettings read_output(ObjectReader r) {
+  OutputSettings o;
+  o.format = r.string_or("format", o.format);
+  if (!render_mesh::is_export_format(o.format)) {
+    std::string list;
+    for (const auto& f : render_mesh::export_formats()) list += (list.empty() ? "" : ", ") + f.id;
+    r.fail("format", "unknown mesh format \"" + o.format + "\": allowed are " + list);
+  }
+  const auto res = r.integers_or("resolution", {o.resolution_u, o.resolution_v}, Range::closed(1, 4096));
+  o.resolution_u = res[0];
+  o.resolution_v = res[1];
+  r.finish();
+  return o;
+}
+
+std::string stem_of(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
+  const size_t dot = base.find_last_of('.');
+  return dot == std::string::npos || dot == 0 ? base : base.substr(0, dot);
+}
+
+// Line and column (1-based) of a byte offset, for JSON syntax errors.
+std::string line_col(const std::string& text, size_t offset) {
+  size_t line = 1, col = 1;
+  for (size_t i = 0; i < offset && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      col = 1;
+    } else {
+      ++col;
+    }
+  }
+  return "line " + std::to_string(line) + ", column " + std::to_string(col);
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& json_text, const std::string& source) {
+  Json j;
+  try {
+    j = Json::parse(json_text);
+  } catch (const Json::parse_error& e) {
+    // e.byte is one past the offending character.
+    throw SceneError(source, "", "invalid JSON at " + line_col(json_text, e.byte ? e.byte - 1 : 0) +
+                                     ": " + std::string(e.what()));
+  }
+  ObjectReader root(j, "", source);
+  Scene scene;
+  scene.source = source;
+  scene.name = root.string_or("name", stem_of(source));
+  if (auto t = root.optional_object("time")) scene.time = read_time(*t);
+  if (auto o = root.optional_object("output")) scene.output = read_output(*o);
+  const Json& shells = root.array("shells", 1);
+  for (size_t i = 0; i < shells.size(); ++i)
+    scene.shells.push_back(read_shell(ObjectReader(shells[i], "/shells/" + std::to_string(i), source), i));
+  const auto g = root.numbers_or("gravity", {0.0, -9.81, 0.0});
+  scene.gravity = Eigen::Vector3d(g[0], g[1], g[2]);
+  scene.damping = root.number_or("damping", 0.0, Range::non_negative());
+  if (auto grid = root.optional_object("grid")) {
+    if (grid->has("dx")) scene.grid.dx = grid->number("dx", Range::positive());
+    scene.grid.apic = grid->choice_or("transfer", "pic", {"pic", "apic"}) == "apic";
+    grid->finish();
+  }
+  scene.colliders = read_colliders(root);
+  scene.pins = read_pins(root, scene.shells);
+  root.finish();
+  return scene;
+}
+
+Scene load_scene_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path, "", "cannot open the scene file (does it exist and is it readable?)");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_scene(ss.str(), path);
+}
+
+Scene default_scene() { return parse_scene(default_scene_json(), "<built-in default>"); }
+
+}  // namespace shellfrac::sim

@@ -1,0 +1,94 @@
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mpm/colliders.hpp"
+#include "nurbs/nurbs_surface.hpp"
+#include "shell/in_plane_stress.hpp"
+#include "shell/quadrature.hpp"
+
+namespace shellfrac::sim {
+
+// Elastic material of a shell (SI units). Lamé parameters follow thesis Eq. 2.4.
+struct Material {
+  std::string model = "neo_hookean";
+  double youngs_modulus = 0;  // E [Pa]
+  double poisson_ratio = 0;   // nu, in (-1, 0.5)
+  double density = 0;         // rho [kg/m^3]
+  // Thickness treatment of the Kirchhoff-Love in-plane stress (see shell/in_plane_stress.hpp).
+  shell::TransverseModel transverse = shell::TransverseModel::Condensed;
+
+  double mu() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
+  double lambda() const {
+    return youngs_modulus * poisson_ratio / ((1.0 + poisson_ratio) * (1.0 - 2.0 * poisson_ratio));
+  }
+};
+
+// One shell: a NURBS patch (its reference configuration), a thickness and a material.
+struct Shell {
+  std::string name;
+  std::string shape;  // "flat", "cylinder", "cone" or "control_net"
+  nurbs::NurbsSurface surface;
+  double thickness = 0;  // tau [m]
+  Material material;
+  shell::QuadratureRule quadrature;
+  Eigen::Vector3d initial_velocity = Eigen::Vector3d::Zero();
+};
+
+// Background grid and transfer scheme.
+struct GridSettings {
+  std::optional<double> dx;  // node spacing [m]; unset: the smallest shell cell size
+  bool apic = false;         // PIC (the thesis's choice) or APIC
+};
+
+struct ColliderSpec {
+  std::string name;
+  std::string shape;  // "half_space", "sphere", "box"
+  mpm::Collider collider;
+};
+
+// Dirichlet constraint: the listed control points follow `motion` from their initial positions.
+struct Pin {
+  size_t shell = 0;
+  std::vector<int> control_points;
+  mpm::RigidMotion motion;
+  std::string json_path;  // where the pin was defined, for messages
+};
+
+struct TimeSettings {
+  double end = 1.0;                // simulated seconds
+  double frame_rate = 24.0;        // frames written per simulated second
+  std::optional<double> dt;        // fixed step [s]; unset means "from the stability bound"
+  double cfl = 0.5;                // safety factor on the stability bound, in (0, 1]
+  bool allow_substepping = false;  // split frames into more steps when dt exceeds the bound
+};
+
+struct OutputSettings {
+  std::string format = "obj";  // an assimp export format id
+  int resolution_u = 32;       // render quads per patch along u (independent of the simulation)
+  int resolution_v = 32;       // ... and along v
+};
+
+struct Scene {
+  std::string name;
+  std::string source;  // file path, or "<built-in default>"
+  TimeSettings time;
+  OutputSettings output;
+  Eigen::Vector3d gravity{0.0, -9.81, 0.0};
+  double damping = 0.0;  // velocity damping rate [1/s] applied on the grid (for quasi-static runs)
+  GridSettings grid;
+  std::vector<Shell> shells;
+  std::vector<ColliderSpec> colliders;
+  std::vector<Pin> pins;
+};
+
+// Parses and validates a scene. All problems throw SceneError naming `source` and the JSON path.
+Scene parse_scene(const std::string& json_text, const std::string& source);
+Scene load_scene_file(const std::string& path);
+
+// The default scene compiled into the binary.
+const char* default_scene_json();
+Scene default_scene();
+
+}  // namespace shellfrac::sim

@@ -1,0 +1,140 @@
+#include <memory>
+
+#include "sim/scene_parts.hpp"
+
+namespace shellfrac::sim {
+
+namespace {
+
+Eigen::Vector3d vec3(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
+
+Eigen::Vector3d unit_vector(ObjectReader& r, const std::string& key, std::vector<double> fallback) {
+  const Eigen::Vector3d v = vec3(fallback.empty() ? r.numbers(key, 3) : r.numbers_or(key, fallback));
+  if (v.norm() < 1e-12) r.fail(key, "direction must be a non-zero vector");
+  return v.normalized();
+}
+
+mpm::Boundary read_boundary(ObjectReader& r) {
+  const std::string b = r.choice_or("boundary", "friction", {"sticky", "slip", "friction"});
+  return b == "sticky" ? mpm::Boundary::Sticky : b == "slip" ? mpm::Boundary::Slip : mpm::Boundary::Friction;
+}
+
+}  // namespace
+
+mpm::RigidMotion read_motion(ObjectReader r) {
+  mpm::RigidMotion m;
+  m.pivot = vec3(r.numbers_or("pivot", {0, 0, 0}));
+  if (r.has("keyframes")) {
+    const Json& frames = r.array("keyframes", 1);
+    if (r.has("linear_velocity") || r.has("angular_velocity"))
+      r.fail("keyframes", "give either keyframes or constant velocities, not both");
+    for (size_t i = 0; i < frames.size(); ++i) {
+      ObjectReader k(frames[i], r.child_path("keyframes") + "/" + std::to_string(i), r.file());
+      mpm::Keyframe f;
+      f.time = k.number("time", Range::non_negative());
+      f.translation = vec3(k.numbers_or("translation", {0, 0, 0}));
+      f.rotation = vec3(k.numbers_or("rotation", {0, 0, 0}));
+      k.finish();
+      if (!m.keyframes.empty() && !(f.time > m.keyframes.back().time))
+        k.fail("time", "keyframe times must increase strictly");
+      m.keyframes.push_back(f);
+    }
+  } else {
+    m.linear_velocity = vec3(r.numbers_or("linear_velocity", {0, 0, 0}));
+    m.angular_velocity = vec3(r.numbers_or("angular_velocity", {0, 0, 0}));
+  }
+  r.finish();
+  return m;
+}
+
+std::vector<ColliderSpec> read_colliders(ObjectReader& root) {
+  std::vector<ColliderSpec> out;
+  if (!root.has("colliders")) return out;
+  const Json& list = root.array("colliders");
+  for (size_t i = 0; i < list.size(); ++i) {
+    ObjectReader r(list[i], "/colliders/" + std::to_string(i), root.file());
+    ColliderSpec c;
+    c.name = r.string_or("name", "collider" + std::to_string(i));
+    c.shape = r.choice("shape", {"half_space", "sphere", "box"});
+    if (c.shape == "half_space") {
+      c.collider.shape = std::make_shared<mpm::HalfSpace>(vec3(r.numbers("point", 3)), unit_vector(r, "normal", {}));
+    } else if (c.shape == "sphere") {
+      c.collider.shape = std::make_shared<mpm::Sphere>(vec3(r.numbers("center", 3)), r.number("radius", Range::positive()));
+    } else {
+      c.collider.shape = std::make_shared<mpm::Box>(vec3(r.numbers("center", 3)),
+                                                    vec3(r.numbers("half_extents", 3, Range::positive())));
+    }
+    c.collider.boundary = read_boundary(r);
+    c.collider.friction = r.number_or("friction", 0.3, Range::non_negative());
+    if (auto m = r.optional_object("motion")) c.collider.motion = read_motion(*m);
+    r.finish();
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+std::vector<Pin> read_pins(ObjectReader& root, const std::vector<Shell>& shells) {
+  std::vector<Pin> out;
+  if (!root.has("pins")) return out;
+  const Json& list = root.array("pins");
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string path = "/pins/" + std::to_string(i);
+    ObjectReader r(list[i], path, root.file());
+    Pin pin;
+    pin.json_path = path;
+    // The shell: by name or by index.
+    const Json& which = r.raw("shell");
+    if (which.is_string()) {
+      const std::string name = which.get<std::string>();
+      size_t k = 0;
+      while (k < shells.size() && shells[k].name != name) ++k;
+      if (k == shells.size()) r.fail("shell", "no shell is named \"" + name + "\"");
+      pin.shell = k;
+    } else {
+      pin.shell = static_cast<size_t>(r.integer("shell", Range::closed(0, static_cast<double>(shells.size()) - 1)));
+    }
+    const auto& surf = shells[pin.shell].surface;
+    const int nu = surf.num_u(), nv = surf.num_v();
+    const bool has_region = r.has("region"), has_points = r.has("control_points");
+    if (has_region == has_points) r.fail_here("a pin needs exactly one of \"region\" or \"control_points\"");
+    if (has_region) {
+      // Control points whose Greville abscissae, normalised to [0, 1] over the patch, lie in the box.
+      ObjectReader reg = r.object("region");
+      const auto u = reg.numbers_or("u", {0, 1}, Range::closed(0, 1));
+      const auto v = reg.numbers_or("v", {0, 1}, Range::closed(0, 1));
+      reg.finish();
+      if (u[0] > u[1]) r.fail("region", "u range is reversed");
+      if (v[0] > v[1]) r.fail("region", "v range is reversed");
+      const auto& ku = surf.knots_u();
+      const auto& kv = surf.knots_v();
+      for (int j = 0; j < nv; ++j)
+        for (int i = 0; i < nu; ++i) {
+          const double s = (ku.greville(i) - ku.domain_begin()) / (ku.domain_end() - ku.domain_begin());
+          const double t = (kv.greville(j) - kv.domain_begin()) / (kv.domain_end() - kv.domain_begin());
+          if (s >= u[0] - 1e-12 && s <= u[1] + 1e-12 && t >= v[0] - 1e-12 && t <= v[1] + 1e-12)
+            pin.control_points.push_back(i + nu * j);
+        }
+      if (pin.control_points.empty())
+        r.fail("region", "the region selects no control point of shell \"" + shells[pin.shell].name + "\"");
+    } else {
+      const Json& pts = r.array("control_points", 1);
+      for (size_t k = 0; k < pts.size(); ++k) {
+        const std::string p = r.child_path("control_points") + "/" + std::to_string(k);
+        if (!pts[k].is_array() || pts[k].size() != 2 || !pts[k][0].is_number_integer() || !pts[k][1].is_number_integer())
+          throw SceneError(r.file(), p, "expected a control point index pair [i, j]");
+        const int ci = pts[k][0].get<int>(), cj = pts[k][1].get<int>();
+        if (ci < 0 || ci >= nu || cj < 0 || cj >= nv)
+          throw SceneError(r.file(), p, "control point [" + std::to_string(ci) + ", " + std::to_string(cj) +
+                                            "] is outside the patch: allowed are [0.." + std::to_string(nu - 1) +
+                                            ", 0.." + std::to_string(nv - 1) + "]");
+        pin.control_points.push_back(ci + nu * cj);
+      }
+    }
+    if (auto m = r.optional_object("motion")) pin.motion = read_motion(*m);
+    r.finish();
+    out.push_back(std::move(pin));
+  }
+  return out;
+}
+
+}  // namespace shellfrac::sim

@@ -1,0 +1,237 @@
+#include "sim/simulation.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "render_mesh/surface_tessellation.hpp"
+#include "sim/scene_error.hpp"
+
+namespace shellfrac::sim {
+
+namespace {
+
+shell::ShellMaterial shell_material(const Shell& s) {
+  shell::ShellMaterial m;
+  m.mu = s.material.mu();
+  m.lambda = s.material.lambda();
+  m.density = s.material.density;
+  m.thickness = s.thickness;
+  m.transverse = s.material.transverse;
+  return m;
+}
+
+// Typical cell size of a patch: sqrt(mid-surface area / cells).
+double cell_size(const shell::ShellPatch& p) {
+  return std::sqrt(p.reference_volume() / p.material().thickness / static_cast<double>(p.num_cells()));
+}
+
+std::string format_seconds(double v) {
+  std::ostringstream os;
+  os.precision(4);
+  os << v;
+  return os.str();
+}
+
+}  // namespace
+
+Simulation::Simulation(const Scene& scene) : scene_(scene), grid_(1.0) {
+  patches_.reserve(scene.shells.size());
+  for (const Shell& s : scene.shells) {
+    patches_.emplace_back(s.surface, shell_material(s), s.quadrature);
+    for (auto& v : patches_.back().v) v = s.initial_velocity;
+    initial_positions_.push_back(patches_.back().x);
+    affine_.emplace_back(scene.grid.apic ? patches_.back().x.size() : 0, Eigen::Matrix3d::Zero());
+  }
+  double smallest_cell = 1e300;
+  for (const auto& p : patches_) smallest_cell = std::min(smallest_cell, cell_size(p));
+  grid_ = mpm::SparseGrid(scene.grid.dx.value_or(smallest_cell));
+
+  // Elastic-wave bound per shell (explicit integration): membrane waves need dt < h / c, bending
+  // waves dt < sqrt(3) h^2 / (c tau), with c = sqrt(E / (rho (1 - nu^2))) and h the finer of the grid
+  // spacing and the cell size.
+  elastic_bound_ = 1e300;
+  for (size_t i = 0; i < patches_.size(); ++i) {
+    const Material& m = scene.shells[i].material;
+    const double c = std::sqrt(m.youngs_modulus / (m.density * (1 - m.poisson_ratio * m.poisson_ratio)));
+    const double h = std::min(grid_.dx(), cell_size(patches_[i]));
+    const double tau = scene.shells[i].thickness;
+    elastic_bound_ = std::min({elastic_bound_, h / c, std::sqrt(3.0) * h * h / (c * tau)});
+  }
+  const double allowed = scene.time.cfl * elastic_bound_;
+  if (scene.time.dt && *scene.time.dt > allowed && !scene.time.allow_substepping)
+    throw SceneError(scene.source, "/time/dt",
+                     "time step " + format_seconds(*scene.time.dt) + " s exceeds the stability bound " +
+                         format_seconds(allowed) + " s (cfl " + format_seconds(scene.time.cfl) +
+                         " x elastic wave bound " + format_seconds(elastic_bound_) +
+                         " s): lower dt, or set \"allow_substepping\": true");
+
+  for (const auto& c : scene.colliders) colliders_.push_back(c.collider);
+  sets_.resize(patches_.size());
+  for (size_t i = 0; i < patches_.size(); ++i) {
+    mpm::ParticleSet& s = sets_[i];
+    shell::ShellPatch& p = patches_[i];
+    s.count = p.x.size();
+    s.position = p.x.data();
+    s.velocity = p.v.data();
+    s.mass = p.mass.data();
+    s.force = p.force.data();
+    s.affine = scene.grid.apic ? affine_[i].data() : nullptr;
+  }
+}
+
+double Simulation::stable_dt() const {
+  double dt = scene_.time.cfl * elastic_bound_;
+  if (scene_.time.dt) dt = std::min(dt, *scene_.time.dt);
+  double vmax = 0;
+  for (const auto& p : patches_)
+    for (const auto& v : p.v) vmax = std::max(vmax, v.norm());
+  if (vmax > 0) dt = std::min(dt, scene_.time.cfl * grid_.dx() / vmax);
+  return dt;
+}
+
+long Simulation::advance_to(double t) {
+  long taken = 0;
+  while (time_ < t - 1e-12 * std::max(1.0, t)) {
+    const double remaining = t - time_;
+    const double dt_max = stable_dt();
+    const double n = std::ceil(remaining / dt_max - 1e-9);
+    const double dt = n <= 1 ? remaining : remaining / n;
+    step(dt);
+    ++taken;
+  }
+  time_ = std::max(time_, t);
+  return taken;
+}
+
+void Simulation::step(double dt) {
+  stage_p2g();
+  stage_forces();
+  stage_grid_update(dt);
+  stage_g2p(dt);
+  time_ += dt;
+  ++steps_;
+  min_dt_ = steps_ == 1 ? dt : std::min(min_dt_, dt);
+  max_dt_ = std::max(max_dt_, dt);
+}
+
+void Simulation::stage_p2g() {
+  auto scope = timer_.time("p2g");
+  try {
+    grid_.rebuild(sets_);
+  } catch (const std::domain_error& e) {
+    throw NumericalError(std::string(e.what()) + " at step " + std::to_string(steps_));
+  }
+  grid_.transfer_mass_momentum(sets_);
+}
+
+void Simulation::stage_forces() {
+  auto scope = timer_.time("forces");
+  for (size_t i = 0; i < patches_.size(); ++i) {
+    const shell::ForceFailure f = patches_[i].compute_forces();
+    if (f.failed) {
+      std::ostringstream os;
+      os << f.reason << ", quadrature point " << f.quadrature_point << " at parameter (" << f.parameter.x() << ", "
+         << f.parameter.y() << ") of shell \"" << scene_.shells[i].name << "\" at step " << steps_ << " (t = " << time_
+         << " s)";
+      throw NumericalError(os.str());
+    }
+  }
+  grid_.transfer_forces(sets_);  // generalized control-point forces to the grid (thesis Eq. 4.8)
+}
+
+void Simulation::stage_grid_update(double dt) {
+  auto scope = timer_.time("grid_update");
+  grid_.update_velocities(dt, scene_.gravity);
+  if (scene_.damping > 0) {
+    const double keep = std::exp(-scene_.damping * dt);
+    tbb::parallel_for(size_t{0}, grid_.num_nodes(), [&](size_t n) { grid_.node_velocity(n) *= keep; });
+  }
+  mpm::apply_colliders(grid_, colliders_, time_ + dt);
+}
+
+void Simulation::stage_g2p(double dt) {
+  auto scope = timer_.time("g2p");
+  grid_.transfer_to_particles(sets_);
+  for (auto& p : patches_) {
+    tbb::parallel_for(size_t{0}, p.x.size(), [&](size_t k) { p.x[k] += dt * p.v[k]; });  // thesis Eq. 4.9
+    mpm::project_particles(p.x, p.v, colliders_, time_ + dt);
+  }
+  apply_pins(time_ + dt);
+  check_finite();
+}
+
+void Simulation::apply_pins(double t) {
+  for (const Pin& pin : scene_.pins) {
+    shell::ShellPatch& p = patches_[pin.shell];
+    const Eigen::Isometry3d pose = pin.motion.pose(t);
+    for (int k : pin.control_points) {
+      const auto c = static_cast<size_t>(k);
+      p.x[c] = pose * initial_positions_[pin.shell][c];
+      p.v[c] = pin.motion.velocity_at(p.x[c], t);
+      if (!affine_[pin.shell].empty()) affine_[pin.shell][c].setZero();
+    }
+  }
+}
+
+void Simulation::check_finite() const {
+  for (size_t i = 0; i < patches_.size(); ++i) {
+    const auto& p = patches_[i];
+    for (size_t k = 0; k < p.x.size(); ++k) {
+      if (p.x[k].allFinite() && p.v[k].allFinite()) continue;
+      const int nu = p.reference().num_u();
+      std::ostringstream os;
+      os << "non-finite position or velocity (NaN/inf) at control point " << k << " [" << k % static_cast<size_t>(nu)
+         << ", " << k / static_cast<size_t>(nu) << "] of shell \"" << scene_.shells[i].name << "\" at step " << steps_
+         << " (t = " << time_ << " s); the time step may be too large for this material";
+      throw NumericalError(os.str());
+    }
+  }
+}
+
+size_t Simulation::num_control_points() const {
+  size_t n = 0;
+  for (const auto& p : patches_) n += p.num_control_points();
+  return n;
+}
+
+size_t Simulation::num_quadrature_points() const {
+  size_t n = 0;
+  for (const auto& p : patches_) n += p.num_quadrature_points();
+  return n;
+}
+
+double Simulation::kinetic_energy() const {
+  double e = 0;
+  for (const auto& p : patches_)
+    for (size_t k = 0; k < p.v.size(); ++k) e += 0.5 * p.mass[k] * p.v[k].squaredNorm();
+  return e;
+}
+
+Eigen::Vector3d Simulation::linear_momentum() const {
+  Eigen::Vector3d m = Eigen::Vector3d::Zero();
+  for (const auto& p : patches_)
+    for (size_t k = 0; k < p.v.size(); ++k) m += p.mass[k] * p.v[k];
+  return m;
+}
+
+std::vector<render_mesh::PolyMesh> Simulation::render_meshes() const {
+  std::vector<render_mesh::PolyMesh> meshes(patches_.size());
+  tbb::parallel_for(size_t{0}, patches_.size(), [&](size_t i) {
+    meshes[i] = render_mesh::tessellate(patches_[i].current_surface(), scene_.output.resolution_u,
+                                        scene_.output.resolution_v, scene_.shells[i].name);
+  });
+  return meshes;
+}
+
+double Simulation::collider_penetration(const std::vector<render_mesh::PolyMesh>& meshes) const {
+  double depth = 0;
+  for (const auto& c : colliders_)
+    for (const auto& m : meshes)
+      for (const auto& x : m.positions) depth = std::max(depth, -c.signed_distance(x, time_));
+  return depth;
+}
+
+}  // namespace shellfrac::sim

@@ -1,0 +1,75 @@
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mpm/sparse_grid.hpp"
+#include "render_mesh/poly_mesh.hpp"
+#include "shell/shell_patch.hpp"
+#include "sim/scene.hpp"
+#include "sim/stage_timer.hpp"
+
+namespace shellfrac::sim {
+
+// A running scene: the Kirchhoff-Love shell patches on a sparse MPM grid (thesis sec. 4.3.2), advanced
+// by explicit symplectic Euler through named, timed stages:
+//   p2g -> forces -> grid_update -> g2p
+// (coupling, constitutive updates and crack extraction join this pipeline in later features).
+class Simulation {
+ public:
+  explicit Simulation(const Scene& scene);
+  Simulation(const Simulation&) = delete;  // the grid's particle views point into the patches
+  Simulation& operator=(const Simulation&) = delete;
+
+  // Largest stable step: cfl times the elastic-wave bound of the stiffest shell on the grid, further
+  // limited so that no particle moves more than cfl grid cells per step at the current speeds.
+  double stable_dt() const;
+  // The elastic-wave part of the bound (without the cfl factor), for reports.
+  double elastic_wave_bound() const { return elastic_bound_; }
+
+  // One step of size dt through the stages. Throws NumericalError naming the particle, shell and step.
+  void step(double dt);
+  // Steps until time t (equal steps no larger than the allowed step), returns the steps taken.
+  long advance_to(double t);
+
+  double time() const { return time_; }
+  long steps() const { return steps_; }
+  double min_dt() const { return min_dt_; }
+  double max_dt() const { return max_dt_; }
+  double dx() const { return grid_.dx(); }
+  const StageTimer& timer() const { return timer_; }
+  std::vector<shell::ShellPatch>& patches() { return patches_; }
+  const std::vector<shell::ShellPatch>& patches() const { return patches_; }
+
+  size_t num_control_points() const;
+  size_t num_quadrature_points() const;
+  double kinetic_energy() const;
+  Eigen::Vector3d linear_momentum() const;
+  // The render mesh of every shell at the current state (the scene's output resolution).
+  std::vector<render_mesh::PolyMesh> render_meshes() const;
+  // Largest depth by which any render vertex is inside any collider now (0 if none).
+  double collider_penetration(const std::vector<render_mesh::PolyMesh>& meshes) const;
+
+ private:
+  void stage_p2g();
+  void stage_forces();
+  void stage_grid_update(double dt);
+  void stage_g2p(double dt);
+  void apply_pins(double t_new);
+  void check_finite() const;
+
+  Scene scene_;
+  std::vector<shell::ShellPatch> patches_;
+  std::vector<std::vector<Eigen::Vector3d>> initial_positions_;  // for pins
+  std::vector<std::vector<Eigen::Matrix3d>> affine_;              // APIC C_p per control point
+  std::vector<mpm::Collider> colliders_;
+  mpm::SparseGrid grid_;
+  std::vector<mpm::ParticleSet> sets_;
+  StageTimer timer_;
+  double elastic_bound_ = 0;
+  double time_ = 0;
+  long steps_ = 0;
+  double min_dt_ = 0, max_dt_ = 0;
+};
+
+}  // namespace shellfrac::sim

@@ -1,0 +1,125 @@
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+struct Result {
+  int exit_code;
+  std::string output;  // stdout and stderr
+};
+
+Result shellfrac(const std::string& args) {
+  const std::string cmd = std::string(SHELLFRAC_BIN) + " " + args + " 2>&1";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return {-1, "popen failed"};
+  std::string out;
+  char buf[4096];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) out.append(buf, n);
+  const int status = ::pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("shellfrac-cli-" + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+TEST(Cli, VersionAndHelpExitZero) {
+  const Result v = shellfrac("--version");
+  EXPECT_EQ(v.exit_code, 0);
+  EXPECT_THAT(v.output, HasSubstr("shellfrac 0."));
+  for (const char* cmd : {"--help", "run --help", "validate --help"}) {
+    const Result h = shellfrac(cmd);
+    EXPECT_EQ(h.exit_code, 0) << cmd;
+    EXPECT_THAT(h.output, HasSubstr("Usage")) << cmd;
+  }
+}
+
+TEST(Cli, UsageErrorsAreBadInput) {
+  EXPECT_EQ(shellfrac("").exit_code, 2);
+  EXPECT_EQ(shellfrac("frobnicate").exit_code, 2);
+  EXPECT_EQ(shellfrac("validate").exit_code, 2);
+  EXPECT_EQ(shellfrac("run --threads -3").exit_code, 2);
+}
+
+TEST(Cli, ValidateAcceptsEveryShippedScene) {
+  int count = 0;
+  for (const auto& e : fs::directory_iterator(fs::path(SHELLFRAC_SOURCE_DIR) / "scenes")) {
+    if (e.path().extension() != ".json") continue;
+    ++count;
+    const Result r = shellfrac("validate " + e.path().string());
+    EXPECT_EQ(r.exit_code, 0) << e.path() << "\n" << r.output;
+    EXPECT_THAT(r.output, HasSubstr(": OK"));
+  }
+  EXPECT_GE(count, 4);
+}
+
+TEST(Cli, ValidateRejectsBrokenSceneWithPath) {
+  const fs::path d = scratch("broken");
+  std::ofstream(d / "bad.json") << R"({"shells": [{"patch": {"type": "flat", "size": [1, 1],
+    "cells": [4, 4]}, "thickness": 0.001, "material": {"E": 1e5, "nu": 0.7, "density": 100}}]})";
+  const Result r = shellfrac("validate " + (d / "bad.json").string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.output, HasSubstr("bad.json: /shells/0/material/nu"));
+  EXPECT_THAT(r.output, HasSubstr("in (-1, 0.5)"));
+  const Result missing = shellfrac("validate " + (d / "nope.json").string());
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_THAT(missing.output, HasSubstr("nope.json"));
+  // run refuses the same scene before writing anything.
+  const Result run = shellfrac("run " + (d / "bad.json").string() + " --out " + (d / "out").string());
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_FALSE(fs::exists(d / "out" / "summary.json"));
+  fs::remove_all(d);
+}
+
+TEST(Cli, RunDefaultWritesSummaryAndMesh) {
+  const fs::path d = scratch("run");
+  const Result r = shellfrac("run --out " + d.string() + " --threads 1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(d / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_EQ(s["status"], "completed");
+  EXPECT_EQ(s["threads"], 1);
+  EXPECT_TRUE(s["metrics"].is_object());
+  EXPECT_TRUE(s["stage_seconds"].contains("output"));
+  EXPECT_GE(s["wall_seconds"].get<double>(), 0.0);
+  // Default scene: a 16 x 16-cell cloth, (cells + 2)^2 control points, 16 x 16 x 4 x 4 x 3 quadrature points.
+  EXPECT_EQ(s["particle_counts"]["control_points"], 18 * 18);
+  EXPECT_EQ(s["particle_counts"]["quadrature_points"], 16 * 16 * 48);
+  // 0.5 s at 24 frames/s: frames 0..12, and steps no larger than the stability bound.
+  EXPECT_EQ(s["frames"].size(), 13u);
+  EXPECT_GT(s["steps"].get<long>(), 0);
+  EXPECT_LE(s["dt"].get<double>(), s["stable_dt_bound"].get<double>() * (1 + 1e-12));
+  EXPECT_NEAR(s["simulated_seconds"].get<double>(), 0.5, 1e-12);
+  // The cloth falls onto the ball and stays outside it (within half a grid cell).
+  EXPECT_LE(s["metrics"]["max_collider_penetration_cells"].get<double>(), 0.5);
+  ASSERT_GE(s["frames"].size(), 1u);
+  const fs::path mesh = d / s["frames"][0].get<std::string>();
+  ASSERT_TRUE(fs::exists(mesh)) << mesh;
+  // One patch at the 48 x 48 render resolution.
+  std::ifstream obj(mesh);
+  std::string line;
+  int vertices = 0, faces = 0;
+  while (std::getline(obj, line)) {
+    if (line.rfind("v ", 0) == 0) ++vertices;
+    if (line.rfind("f ", 0) == 0) ++faces;
+  }
+  EXPECT_EQ(vertices, 49 * 49);
+  EXPECT_EQ(faces, 48 * 48);
+  fs::remove_all(d);
+}
+
+}  // namespace

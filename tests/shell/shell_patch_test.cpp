@@ -1,0 +1,144 @@
+#include "shell/shell_patch.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <random>
+
+#include "nurbs/patch_builders.hpp"
+
+namespace shellfrac::shell {
+namespace {
+
+ShellMaterial material(double E, double nu, double thickness, TransverseModel model = TransverseModel::Condensed) {
+  ShellMaterial m;
+  m.mu = E / (2 * (1 + nu));
+  m.lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+  m.density = 500;
+  m.thickness = thickness;
+  m.transverse = model;
+  return m;
+}
+
+double max_norm(const std::vector<Vec3>& f) {
+  double m = 0;
+  for (const auto& v : f) m = std::max(m, v.norm());
+  return m;
+}
+
+TEST(ShellPatch, CountsAndMassFollowTheThesisLayout) {
+  const ShellPatch p(nurbs::flat_patch(2.0, 1.0, 8, 4), material(1e6, 0.3, 0.01));
+  EXPECT_EQ(p.num_control_points(), 10u * 6u);
+  EXPECT_EQ(p.num_cells(), 32u);
+  EXPECT_EQ(p.num_quadrature_points(), 32u * 16u * 3u);  // 4x4 stencil, 3 layers
+  double total = 0;
+  for (double m : p.mass) total += m;
+  EXPECT_NEAR(total, 500 * 0.01 * 2.0, 1e-12);  // rho tau A
+  EXPECT_NEAR(p.reference_volume(), 0.02, 1e-15);
+  for (double m : p.mass) EXPECT_GT(m, 0);
+}
+
+TEST(ShellPatch, RigidMotionGivesZeroForce) {
+  // A curved (rational cylinder) shell, rotated and translated: no strain, no force.
+  ShellPatch p(nurbs::cylinder_segment(0.5, 1.0, 2.0, 6, 5), material(1e6, 0.3, 0.01));
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  for (auto& x : p.x) x = R * x + Vec3(3, -1, 2);
+  ASSERT_FALSE(p.compute_forces().failed);
+  const double rigid = max_norm(p.force);
+  // Reference scale: the forces of a 1% stretch.
+  ShellPatch q(nurbs::cylinder_segment(0.5, 1.0, 2.0, 6, 5), material(1e6, 0.3, 0.01));
+  for (auto& x : q.x) x *= 1.01;
+  ASSERT_FALSE(q.compute_forces().failed);
+  const double stretched = max_norm(q.force);
+  EXPECT_GT(stretched, 1.0);
+  EXPECT_LE(rigid, 1e-10 * stretched);
+  EXPECT_NEAR(p.elastic_energy(), 0.0, 1e-12 * q.elastic_energy());
+}
+
+TEST(ShellPatch, ForceIsMinusEnergyGradientAndConservesMomentum) {
+  ShellPatch p(nurbs::cylinder_segment(0.5, 1.0, 1.5, 4, 3), material(1e6, 0.3, 0.05));
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-0.03, 0.03);
+  for (auto& x : p.x) x += Vec3(u(rng), u(rng), u(rng));
+  ASSERT_FALSE(p.compute_forces().failed);
+  const std::vector<Vec3> f = p.force;
+  double worst = 0, scale = max_norm(f);
+  for (size_t i = 0; i < p.x.size(); i += 3) {
+    for (int c = 0; c < 3; ++c) {
+      const double h = 1e-6;
+      const double x0 = p.x[i][c];
+      p.x[i][c] = x0 + h;
+      const double ep = p.elastic_energy();
+      p.x[i][c] = x0 - h;
+      const double em = p.elastic_energy();
+      p.x[i][c] = x0;
+      worst = std::max(worst, std::abs(-(ep - em) / (2 * h) - f[i][c]));
+    }
+  }
+  EXPECT_LE(worst, 1e-6 * scale);
+  // Internal forces sum to zero (translation invariance) and have no net torque (rotation invariance).
+  Vec3 sum = Vec3::Zero(), torque = Vec3::Zero();
+  for (size_t i = 0; i < f.size(); ++i) {
+    sum += f[i];
+    torque += p.x[i].cross(f[i]);
+  }
+  EXPECT_LE(sum.norm(), 1e-11 * scale * static_cast<double>(f.size()));
+  EXPECT_LE(torque.norm(), 1e-11 * scale * static_cast<double>(f.size()));
+}
+
+TEST(ShellPatch, UniformStretchTractionMatchesPlaneStress) {
+  // A flat 1 x 0.5 sheet stretched uniformly by 2% along x with the exact lateral contraction of
+  // plane-stress uniaxial tension: interior control points feel no force, and the force on the x = L
+  // edge is the traction P_11 * thickness * width.
+  const double E = 2e6, nu = 0.3, tau = 0.002, L = 1.0, W = 0.5, e = 0.02;
+  ShellPatch p(nurbs::flat_patch(L, W, 8, 4), material(E, nu, tau));
+  const double mu = p.material().mu, lambda = p.material().lambda;
+  double lo = 0.5, hi = 1.2;  // lateral = thickness stretch s: mu (s^2 - 1) + lambda ln((1+e) s^2) = 0
+  for (int i = 0; i < 200; ++i) {
+    const double s = 0.5 * (lo + hi);
+    (mu * (s * s - 1) + lambda * std::log((1 + e) * s * s) > 0 ? hi : lo) = s;
+  }
+  const double s = 0.5 * (lo + hi);
+  for (auto& x : p.x) x = Vec3((1 + e) * x.x(), s * x.y(), 0);
+  ASSERT_FALSE(p.compute_forces().failed);
+  const double P11 = mu * ((1 + e) * (1 + e) - s * s) / (1 + e);
+  double edge = 0, interior = 0;
+  for (size_t i = 0; i < p.x.size(); ++i) {
+    const int iu = static_cast<int>(i) % 10, jv = static_cast<int>(i) / 10;
+    if (iu == 9) edge += p.force[i].x();
+    if (iu > 1 && iu < 8 && jv > 1 && jv < 4) interior = std::max(interior, p.force[i].norm());
+  }
+  EXPECT_NEAR(-edge, P11 * tau * W, 1e-9 * P11 * tau * W);
+  EXPECT_LE(interior, 1e-9 * P11 * tau * W);
+}
+
+// Control point heights that make a quadratic B-spline reproduce z = a x^2 exactly: the blossom
+// (polar form) of x^2 at the two interior knots of each basis function, scaled to the patch size.
+TEST(ShellPatch, CylindricalBendingEnergyMatchesPlateTheory) {
+  const double E = 1e6, nu = 0.3, tau = 0.01, L = 1.0, a = 1e-4;
+  const auto surf = nurbs::flat_patch(L, L, 10, 10);
+  ShellPatch p(surf, material(E, nu, tau));
+  const auto& k = surf.knots_u();
+  for (size_t idx = 0; idx < p.x.size(); ++idx) {
+    const int i = static_cast<int>(idx) % surf.num_u();
+    p.x[idx].z() = a * (k[i + 1] * L) * (k[i + 2] * L);
+  }
+  // z = a x^2 has curvature 2a (to O(a^2)); strain along y is zero, so D = E tau^3 / (12 (1 - nu^2)).
+  const double D = E * tau * tau * tau / (12 * (1 - nu * nu));
+  const double expected = 0.5 * D * (2 * a) * (2 * a) * L * L;
+  EXPECT_NEAR(p.elastic_energy(), expected, 2e-3 * expected);
+}
+
+TEST(ShellPatch, CollapsedElementIsReported) {
+  // A KL shell cannot invert locally (g_3 follows g_1 x g_2), but it can collapse: squash the sheet onto
+  // a line and every layer has zero area.
+  ShellPatch p(nurbs::flat_patch(1, 1, 2, 2), material(1e6, 0.3, 0.01));
+  for (auto& x : p.x) x.y() = 0;
+  const ForceFailure f = p.compute_forces();
+  EXPECT_TRUE(f.failed);
+  EXPECT_EQ(f.quadrature_point, 0u);
+  EXPECT_NE(f.reason.find("degenerate"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace shellfrac::shell

@@ -1,0 +1,166 @@
+// Every scene validation rule: feed one bad value into an otherwise valid scene and check that the
+// error names the JSON path of the value and says what is allowed.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "sim/scene.hpp"
+#include "sim/scene_error.hpp"
+
+namespace shellfrac::sim {
+namespace {
+
+using ::testing::HasSubstr;
+using Json = nlohmann::json;
+
+Json valid_scene() {
+  return Json::parse(R"({
+    "name": "t",
+    "time": {"end": 0.1, "frame_rate": 30, "cfl": 0.5},
+    "output": {"format": "obj", "resolution": [4, 4]},
+    "shells": [
+      {"name": "a", "patch": {"type": "flat", "size": [1, 2], "cells": [4, 8]},
+       "thickness": 0.001, "material": {"E": 1e5, "nu": 0.3, "density": 200}},
+      {"name": "b", "patch": {"type": "control_net", "degree": [2, 1],
+         "knots_u": [0, 0, 0, 1, 1, 1], "knots_v": [0, 0, 1, 1],
+         "control_points": [[0,0,0],[1,0,0],[2,0,0],[0,1,0],[1,1,1],[2,1,0]],
+         "weights": [1, 0.5, 1, 1, 0.5, 1]},
+       "thickness": 0.002, "material": {"E": 1e6, "nu": 0.2, "density": 500}},
+      {"name": "c", "patch": {"type": "cone", "radius_bottom": 1, "radius_top": 0.5, "height": 1,
+         "sweep_degrees": 90, "cells": [4, 2]},
+       "thickness": 0.002, "material": {"E": 1e6, "nu": 0.2, "density": 500}}
+    ]})");
+}
+
+struct BadCase {
+  const char* label;
+  const char* pointer;     // JSON pointer of the value to replace (or of a new key)
+  const char* value;       // JSON text of the replacement; "DELETE" removes the key
+  const char* error_path;  // path the error must name
+  const char* message;     // substring the message must contain
+};
+
+std::ostream& operator<<(std::ostream& os, const BadCase& c) { return os << c.label; }
+
+class SceneValidation : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(SceneValidation, RejectsWithPathAndReason) {
+  const BadCase& c = GetParam();
+  Json j = valid_scene();
+  const Json::json_pointer ptr(c.pointer);
+  if (std::string(c.value) == "DELETE")
+    j[ptr.parent_pointer()].erase(ptr.back());
+  else
+    j[ptr] = Json::parse(c.value);
+  try {
+    parse_scene(j.dump(), "bad.json");
+    FAIL() << "scene was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.file(), "bad.json");
+    EXPECT_EQ(e.json_path(), c.error_path) << e.what();
+    EXPECT_THAT(e.message(), HasSubstr(c.message)) << e.what();
+    EXPECT_THAT(std::string(e.what()), HasSubstr(std::string("bad.json: ") + c.error_path));
+  }
+}
+
+const BadCase kBadCases[] = {
+    {"negative_thickness", "/shells/0/thickness", "-0.001", "/shells/0/thickness", "must be > 0"},
+    {"zero_thickness", "/shells/0/thickness", "0", "/shells/0/thickness", "must be > 0"},
+    {"thickness_as_string", "/shells/0/thickness", "\"thin\"", "/shells/0/thickness", "expected a number, got string"},
+    {"missing_thickness", "/shells/0/thickness", "DELETE", "/shells/0/thickness", "required key is missing"},
+    {"poisson_half", "/shells/0/material/nu", "0.5", "/shells/0/material/nu", "in (-1, 0.5)"},
+    {"poisson_minus_one", "/shells/0/material/nu", "-1", "/shells/0/material/nu", "in (-1, 0.5)"},
+    {"negative_E", "/shells/0/material/E", "-3", "/shells/0/material/E", "must be > 0"},
+    {"zero_density", "/shells/1/material/density", "0", "/shells/1/material/density", "must be > 0"},
+    {"unknown_material_model", "/shells/0/material/model", "\"rubbery\"", "/shells/0/material/model", "allowed are \"neo_hookean\""},
+    {"unknown_material_key", "/shells/0/material/Young", "1", "/shells/0/material/Young", "unknown key"},
+    {"unknown_top_level_key", "/colour", "\"red\"", "/colour", "allowed here are"},
+    {"unknown_patch_type", "/shells/0/patch/type", "\"sphere\"", "/shells/0/patch/type", "allowed are \"flat\""},
+    {"flat_zero_cells", "/shells/0/patch/cells", "[0, 4]", "/shells/0/patch/cells/0", "in [1, 10000]"},
+    {"flat_fractional_cells", "/shells/0/patch/cells", "[2.5, 4]", "/shells/0/patch/cells/0", "expected an integer"},
+    {"flat_size_wrong_length", "/shells/0/patch/size", "[1]", "/shells/0/patch/size", "array of 2 numbers"},
+    {"flat_negative_size", "/shells/0/patch/size", "[1, -2]", "/shells/0/patch/size/1", "must be > 0"},
+    {"flat_axes_not_orthogonal", "/shells/0/patch/axis_v", "[1, 1, 0]", "/shells/0/patch/axis_v", "orthogonal"},
+    {"flat_zero_axis", "/shells/0/patch/axis_u", "[0, 0, 0]", "/shells/0/patch/axis_u", "non-zero"},
+    {"flat_unknown_key", "/shells/0/patch/radius", "1", "/shells/0/patch/radius", "unknown key"},
+    {"knots_not_monotone", "/shells/1/patch/knots_u", "[0, 0, 0.5, 0.2, 1, 1]", "/shells/1/patch/knots_u", "non-decreasing"},
+    {"knots_too_few", "/shells/1/patch/knots_v", "[0, 1]", "/shells/1/patch/knots_v", "knots"},
+    {"knots_not_finite", "/shells/1/patch/knots_u", "[0, 0, 0, 1, 1, \"x\"]", "/shells/1/patch/knots_u/5", "expected a number"},
+    {"net_size_mismatch", "/shells/1/patch/control_points", "[[0,0,0],[1,0,0],[2,0,0],[0,1,0]]", "/shells/1/patch/control_points", "require 3 x 2 = 6"},
+    {"net_point_not_3d", "/shells/1/patch/control_points/4", "[1, 1]", "/shells/1/patch/control_points/4", "[x, y, z]"},
+    {"net_negative_weight", "/shells/1/patch/weights/3", "-1", "/shells/1/patch/weights/3", "must be > 0"},
+    {"net_weight_count", "/shells/1/patch/weights", "[1, 1, 1]", "/shells/1/patch/weights", "one weight per control point"},
+    {"net_degree_zero", "/shells/1/patch/degree", "[0, 1]", "/shells/1/patch/degree/0", "in [1, 10]"},
+    {"cone_both_radii_zero", "/shells/2/patch",
+     R"({"type": "cone", "radius_bottom": 0, "radius_top": 0, "height": 1, "cells": [4, 2]})",
+     "/shells/2/patch/radius_top", "at least one radius"},
+    {"cone_sweep_too_large", "/shells/2/patch/sweep_degrees", "400", "/shells/2/patch/sweep_degrees", "in (0, 360]"},
+    {"cone_negative_height", "/shells/2/patch/height", "-1", "/shells/2/patch/height", "must be > 0"},
+    {"shells_empty", "/shells", "[]", "/shells", "at least 1"},
+    {"shells_missing", "/shells", "DELETE", "/shells", "required key is missing"},
+    {"shell_not_object", "/shells/0", "3", "/shells/0", "expected an object"},
+    {"time_negative_rate", "/time/frame_rate", "-24", "/time/frame_rate", "must be > 0"},
+    {"time_cfl_above_one", "/time/cfl", "1.5", "/time/cfl", "in (0, 1]"},
+    {"time_zero_dt", "/time/dt", "0", "/time/dt", "must be > 0"},
+    {"time_substep_not_bool", "/time/allow_substepping", "\"yes\"", "/time/allow_substepping", "true or false"},
+    {"output_unknown_format", "/output/format", "\"docx\"", "/output/format", "unknown mesh format"},
+    {"output_zero_resolution", "/output/resolution", "[0, 4]", "/output/resolution/0", "in [1, 4096]"},
+};
+
+INSTANTIATE_TEST_SUITE_P(AllRules, SceneValidation, ::testing::ValuesIn(kBadCases),
+                         [](const auto& info) { return std::string(info.param.label); });
+
+TEST(SceneParse, ValidSceneBuildsTheExpectedPatches) {
+  const Scene s = parse_scene(valid_scene().dump(), "ok.json");
+  ASSERT_EQ(s.shells.size(), 3u);
+  EXPECT_EQ(s.name, "t");
+  EXPECT_DOUBLE_EQ(s.time.end, 0.1);
+  EXPECT_DOUBLE_EQ(s.time.frame_rate, 30);
+  EXPECT_FALSE(s.time.dt.has_value());
+  // Flat 4 x 8 cells: cells + 2 control points per direction (thesis sec. 4.3.1).
+  EXPECT_EQ(s.shells[0].surface.num_u(), 6);
+  EXPECT_EQ(s.shells[0].surface.num_v(), 10);
+  EXPECT_DOUBLE_EQ(s.shells[0].thickness, 0.001);
+  // Lamé parameters (thesis Eq. 2.4): E = 1e5, nu = 0.3.
+  EXPECT_NEAR(s.shells[0].material.mu(), 1e5 / 2.6, 1e-9);
+  EXPECT_NEAR(s.shells[0].material.lambda(), 1e5 * 0.3 / (1.3 * 0.4), 1e-9);
+  EXPECT_TRUE(s.shells[1].surface.is_rational());
+  EXPECT_EQ(s.shells[1].surface.num_u(), 3);
+  EXPECT_EQ(s.shells[1].surface.num_v(), 2);
+  // Unnamed keys default: first shell named "a" explicitly.
+  EXPECT_EQ(s.shells[0].name, "a");
+}
+
+TEST(SceneParse, ControlNetRefineKeepsGeometry) {
+  Json j = valid_scene();
+  j["shells"][1]["patch"]["refine"] = {3, 2};
+  const Scene coarse = parse_scene(valid_scene().dump(), "a.json");
+  const Scene fine = parse_scene(j.dump(), "b.json");
+  const auto& a = coarse.shells[1].surface;
+  const auto& b = fine.shells[1].surface;
+  EXPECT_EQ(b.knots_u().num_spans(), 3);
+  EXPECT_EQ(b.knots_v().num_spans(), 2);
+  double worst = 0;
+  for (int i = 0; i <= 20; ++i)
+    for (int k = 0; k <= 20; ++k)
+      worst = std::max(worst, (a.point(i / 20.0, k / 20.0) - b.point(i / 20.0, k / 20.0)).norm());
+  EXPECT_LE(worst, 1e-12);
+}
+
+TEST(SceneParse, InvalidJsonReportsLineAndColumn) {
+  try {
+    parse_scene("{\n  \"shells\": [\n    1,\n  ]\n}", "broken.json");
+    FAIL();
+  } catch (const SceneError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("broken.json"));
+    EXPECT_THAT(e.message(), HasSubstr("line 4, column 3"));
+  }
+}
+
+TEST(SceneParse, MissingFileIsASceneError) {
+  EXPECT_THROW(load_scene_file("/nonexistent/scene.json"), SceneError);
+}
+
+}  // namespace
+}  // namespace shellfrac::sim
