@@ -76,11 +76,14 @@ void SparseGrid::rebuild(const std::vector<ParticleSet>& sets) {
     const ParticleSet& s = sets[si];
     for (uint32_t p = 0; p < s.count; ++p, ++e) {
       const Vec3& x = s.position[p];
-      if (!x.allFinite())
-        throw std::domain_error("particle " + std::to_string(p) + " of particle set " +
-                                std::to_string(si) + " has a non-finite position");
+      if (!x.allFinite()) throw GridError("non-finite particle position", si, p);
+      constexpr double kLimit = 4.0 * static_cast<double>(kKeyOffset - 2);  // nodes per axis half-range
       int base[3];
-      for (int d = 0; d < 3; ++d) base[d] = static_cast<int>(std::floor(x[d] * inv_dx_ - 0.5));
+      for (int d = 0; d < 3; ++d) {
+        const double b = std::floor(x[d] * inv_dx_ - 0.5);
+        if (std::abs(b) > kLimit) throw GridError("particle position out of the grid's range", si, p);
+        base[d] = static_cast<int>(b);
+      }
       keys[e] = pack(floor_div4(base[0]), floor_div4(base[1]), floor_div4(base[2]));
       entries_[e] = {si, p};
     }

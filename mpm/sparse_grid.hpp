@@ -1,12 +1,26 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
 #include "mpm/particle_set.hpp"
 
 namespace shellfrac::mpm {
+
+// A particle the grid cannot place: non-finite position, or too far out for the grid spacing.
+class GridError : public std::domain_error {
+ public:
+  GridError(const std::string& what, size_t set, size_t particle)
+      : std::domain_error(what), set_(set), particle_(particle) {}
+  size_t set() const { return set_; }
+  size_t particle() const { return particle_; }
+
+ private:
+  size_t set_, particle_;
+};
 
 // A block-sparse background grid: nodes exist only in 4x4x4 blocks that particles touch, so memory
 // follows the particles, not the bounding box. Nodes sit at integer multiples of dx.

@@ -1,5 +1,5 @@
 #pragma once
-#include <Eigen/Core>
+#include <Eigen/Dense>  // all of Core, LU, Geometry: partial includes link-fail only in Release
 
 namespace shellfrac::shell {
 

@@ -27,6 +27,7 @@ ShellPatch::ShellPatch(const nurbs::NurbsSurface& reference, const ShellMaterial
   build_quadrature(rule);
   build_masses();
   build_force_gather();
+  build_shear_particles();
 }
 
 nurbs::NurbsSurface ShellPatch::current_surface() const {
@@ -51,6 +52,7 @@ void ShellPatch::build_quadrature(const QuadratureRule& rule) {
       const double u0 = ku[iu], u1 = ku[iu + 1];
       if (!(u1 > u0)) continue;
       ++num_cells_;
+      cell_center_.emplace_back(0.5 * (u0 + u1), 0.5 * (v0 + v1));
       for (int b = 0; b <= q; ++b)
         for (int a = 0; a <= p; ++a) support_.push_back((iu - p + a) + nu * (jv - q + b));
       for (size_t gj = 0; gj < g.x.size(); ++gj)
@@ -93,7 +95,7 @@ void ShellPatch::build_quadrature(const QuadratureRule& rule) {
 }
 
 void ShellPatch::build_masses() {
-  // Consistent-row-sum lumped mass: m_s = rho sum_q V_q R_s(xi_q).
+  // Consistent-row-sum lumped mass: m_s = rho sum_q V_q R_s(xi_q), times the control points' share.
   mass.assign(x.size(), 0.0);
   const size_t L = layers_.xi3.size();
   for (size_t q = 0; q < param_.size(); ++q) {
@@ -102,7 +104,8 @@ void ShellPatch::build_masses() {
     const int* sup = support(cell_of(q));
     for (int s = 0; s < support_size_; ++s)
       mass[static_cast<size_t>(sup[s])] +=
-          material_.density * vq * basis_[(q * support_size_ + static_cast<size_t>(s)) * kBasisStride];
+          (1.0 - kShearParticleMassShare) * material_.density * vq *
+          basis_[(q * support_size_ + static_cast<size_t>(s)) * kBasisStride];
   }
 }
 
@@ -114,6 +117,72 @@ void ShellPatch::build_force_gather() {
   gather_.resize(support_.size());
   std::vector<int> cursor(gather_offsets_.begin(), gather_offsets_.end() - 1);
   for (size_t k = 0; k < support_.size(); ++k) gather_[static_cast<size_t>(cursor[static_cast<size_t>(support_[k])]++)] = static_cast<int>(k);
+}
+
+void ShellPatch::build_shear_particles() {
+  constexpr int kStride = 3;  // R, R_1, R_2
+  const size_t L = layers_.xi3.size();
+  nurbs::SurfaceBasis basis;
+  shear.basis.assign(num_cells_ * static_cast<size_t>(support_size_ * kStride), 0.0);
+  for (size_t c = 0; c < num_cells_; ++c) {
+    const Vec2& uv = cell_center_[c];
+    reference_.rational_basis(uv.x(), uv.y(), basis);
+    const int* sup = support(c);
+    double* out = &shear.basis[c * static_cast<size_t>(support_size_ * kStride)];
+    Vec3 pos = Vec3::Zero(), A1 = Vec3::Zero(), A2 = Vec3::Zero();
+    for (int k = 0; k < basis.count; ++k) {
+      const int idx = basis.index[static_cast<size_t>(k)];
+      int local = 0;
+      while (sup[local] != idx) ++local;  // the cell's support holds every non-zero function
+      out[local * kStride + 0] = basis.R[static_cast<size_t>(k)];
+      out[local * kStride + 1] = basis.Ru[static_cast<size_t>(k)];
+      out[local * kStride + 2] = basis.Rv[static_cast<size_t>(k)];
+      const Vec3& X = x[static_cast<size_t>(idx)];
+      pos += basis.R[static_cast<size_t>(k)] * X;
+      A1 += basis.Ru[static_cast<size_t>(k)] * X;
+      A2 += basis.Rv[static_cast<size_t>(k)] * X;
+    }
+    const Vec3 N = A1.cross(A2).normalized();
+    const Vec3 E1 = A1.normalized(), E2 = N.cross(E1);
+    Mat3 E, D;
+    E << E1, E2, N;
+    D << A1, A2, N;
+    D = E.transpose() * D;  // upper triangular in the local frame; third column e_3
+    shear.x.push_back(pos);
+    shear.v.push_back(Vec3::Zero());
+    shear.mass.push_back(0.0);  // set below from the cell volume
+    shear.director.push_back(N);
+    shear.reference_inverse.push_back(D.inverse());
+    shear.stress.push_back(Mat3::Zero());
+    shear.velocity_gradient.push_back(Mat3::Zero());
+    double V = 0;
+    for (size_t q = c * points_per_cell_; q < (c + 1) * points_per_cell_; ++q)
+      for (size_t l = 0; l < L; ++l) V += volume_[q * L + l];
+    shear.volume.push_back(V);
+    shear.mass.back() = kShearParticleMassShare * material_.density * V;
+  }
+}
+
+void ShellPatch::update_shear_particles(double dt) {
+  constexpr int kStride = 3;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, num_cells_, 64), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t c = r.begin(); c != r.end(); ++c) {
+      const int* sup = support(c);
+      const double* b = &shear.basis[c * static_cast<size_t>(support_size_ * kStride)];
+      Vec3 pos = Vec3::Zero(), a1 = Vec3::Zero(), a2 = Vec3::Zero();
+      for (int s = 0; s < support_size_; ++s) {
+        const Vec3& X = x[static_cast<size_t>(sup[s])];
+        pos += b[s * kStride] * X;
+        a1 += b[s * kStride + 1] * X;
+        a2 += b[s * kStride + 2] * X;
+      }
+      shear.x[c] = pos;  // thesis Eq. 4.10
+      const Vec3 d3 = shear.director[c] + dt * (shear.velocity_gradient[c] * shear.director[c]);
+      Mat3 d;
+      d << a1, a2, d3;
+      shear.director[c] = shear_return_map(d * shear.reference_inverse[c], material_.shear);
+    }
+  });
 }
 
 ForceFailure ShellPatch::compute_forces() {
@@ -164,6 +233,7 @@ ForceFailure ShellPatch::compute_forces() {
           out[s] -= ds[1] * gr.a1 + ds[2] * gr.a2 + ds[3] * gr.a11 + ds[4] * gr.a12 + ds[5] * gr.a22;
         }
       }
+      if (!cell_failed[c] && !add_shear_force(c, pts, out)) cell_failed[c] = 2;
     }
   });
 
@@ -173,7 +243,9 @@ ForceFailure ShellPatch::compute_forces() {
     failure.failed = true;
     failure.quadrature_point = c * points_per_cell_;
     failure.parameter = param_[failure.quadrature_point];
-    failure.reason = "degenerate or collapsed shell element (area ratio <= 0) in cell " + std::to_string(c);
+    failure.reason = cell_failed[c] == 2
+                         ? "shear particle director crushed into the tangent plane in cell " + std::to_string(c)
+                         : "degenerate or collapsed shell element (area ratio <= 0) in cell " + std::to_string(c);
     return failure;
   }
   tbb::parallel_for(tbb::blocked_range<size_t>(0, x.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
@@ -184,6 +256,28 @@ ForceFailure ShellPatch::compute_forces() {
     }
   });
   return failure;
+}
+
+bool ShellPatch::add_shear_force(size_t c, const Vec3* const* pts, Vec3* out) {
+  constexpr int kStride = 3;
+  const double* b = &shear.basis[c * static_cast<size_t>(support_size_ * kStride)];
+  Vec3 a1 = Vec3::Zero(), a2 = Vec3::Zero();
+  for (int s = 0; s < support_size_; ++s) {
+    a1 += b[s * kStride + 1] * *pts[s];
+    a2 += b[s * kStride + 2] * *pts[s];
+  }
+  const Vec3& d3 = shear.director[c];
+  Mat3 d;
+  d << a1, a2, d3;
+  const Mat3& Dinv = shear.reference_inverse[c];
+  const Mat3 F = d * Dinv;
+  if (std::abs(F.determinant()) < 1e-12 * a1.norm() * a2.norm() * d3.norm()) return false;
+  // dPsi/dd = V P D^-T: columns 1, 2 act on the tangents (control points), column 3 on the director
+  // (through the grid velocity gradient that advects it).
+  const Mat3 G = shear.volume[c] * shear_pk1(F, material_.shear) * Dinv.transpose();
+  for (int s = 0; s < support_size_; ++s) out[s] -= b[s * kStride + 1] * G.col(0) + b[s * kStride + 2] * G.col(1);
+  shear.stress[c] = G.col(2) * d3.transpose();
+  return true;
 }
 
 double ShellPatch::elastic_energy() const {
@@ -213,6 +307,21 @@ double ShellPatch::elastic_energy() const {
   });
   double e = 0;
   for (double v : per_point) e += v;
+  // Type III shear/compression energy at the current directors.
+  for (size_t c = 0; c < num_cells_; ++c) {
+    const int* sup = support(c);
+    const double* b = &shear.basis[c * static_cast<size_t>(support_size_ * 3)];
+    Vec3 a1 = Vec3::Zero(), a2 = Vec3::Zero();
+    for (int s = 0; s < support_size_; ++s) {
+      a1 += b[s * 3 + 1] * x[static_cast<size_t>(sup[s])];
+      a2 += b[s * 3 + 2] * x[static_cast<size_t>(sup[s])];
+    }
+    Mat3 d;
+    d << a1, a2, shear.director[c];
+    Mat3 Q, R;
+    qr_oriented(d * shear.reference_inverse[c], Q, R);
+    e += shear.volume[c] * shear_energy_density(R, material_.shear);
+  }
   return e;
 }
 

@@ -7,6 +7,7 @@
 #include "shell/in_plane_stress.hpp"
 #include "shell/kinematics.hpp"
 #include "shell/quadrature.hpp"
+#include "shell/shear_model.hpp"
 
 namespace shellfrac::shell {
 
@@ -18,6 +19,27 @@ struct ShellMaterial {
   double density = 0;         // kg / m^3
   double thickness = 0;       // tau
   TransverseModel transverse = TransverseModel::Condensed;
+  ShearParams shear;          // Type-III shearing/compression model
+};
+
+// Share of a cell's mass carried by its Type-III particle; the control points carry the rest. Type III
+// particles must carry mass (thesis sec. 4.3.2: Types I-III transfer mass and momentum): their stress
+// reaches grid nodes that no control point touches, and a massless node would drop that force and break
+// momentum conservation.
+inline constexpr double kShearParticleMassShare = 0.5;
+
+// Type-III particles: one per cell at the parameter location of the cell's middle control point
+// (thesis sec. 4.3.2). They carry the elastic director d_3 that the grid velocity advects, and resist
+// compression and (under friction) shear.
+struct ShearParticles {
+  std::vector<Vec3> x, v;              // position (NURBS-interpolated, thesis Eq. 4.10); grid velocity
+  std::vector<double> mass;            // kShearParticleMassShare of the cell's mass
+  std::vector<Vec3> director;          // elastic d_3
+  std::vector<Mat3> reference_inverse; // D^-1 with D = E^T [A_1 A_2 N] in the local frame E = [E_1 E_2 N]
+  std::vector<Mat3> stress;            // grid stress term S_p = V dpsi/dd_3 (x) d_3
+  std::vector<Mat3> velocity_gradient; // grid velocity gradient at x, written by g2p
+  std::vector<double> volume;          // cell area x thickness
+  std::vector<double> basis;           // per particle: support x {R, R_1, R_2}
 };
 
 // Where a force evaluation failed: an inverted or degenerate quadrature point.
@@ -57,8 +79,15 @@ class ShellPatch {
   std::vector<double> mass;
   std::vector<Vec3> force;  // Kirchhoff-Love force per control point, written by compute_forces
 
-  // Overwrites `force` with -dPsi/dx for the current positions; stops at the first inverted point.
+  // Type III state.
+  ShearParticles shear;
+
+  // Overwrites `force` with -dPsi/dx for the current positions (Type IV Kirchhoff-Love force plus the
+  // Type III tangent-plane part), and fills shear.stress for the grid. Stops at the first degenerate point.
   ForceFailure compute_forces();
+  // After the control points moved: Type III positions (Eq. 4.10), director advection
+  // d_3 <- (I + dt grad v) d_3, and the shear return mapping.
+  void update_shear_particles(double dt);
   // Total elastic energy Psi = sum_q V_q psi(F_q) of the current configuration.
   double elastic_energy() const;
   // Reference volume of the shell (sum of V_q), equal to thickness x area up to quadrature error.
@@ -75,6 +104,9 @@ class ShellPatch {
   void build_quadrature(const QuadratureRule& rule);
   void build_masses();
   void build_force_gather();
+  void build_shear_particles();
+  // Type III force of cell c on its support control points (added to out) and its grid stress term.
+  bool add_shear_force(size_t c, const Vec3* const* pts, Vec3* out);
 
   nurbs::NurbsSurface reference_;
   ShellMaterial material_;
@@ -83,6 +115,7 @@ class ShellPatch {
   size_t num_cells_ = 0, points_per_cell_ = 0;
   std::vector<int> support_;        // cells x support_size control point indices
   std::vector<Vec2> param_;         // in-plane points, grouped by cell
+  std::vector<Vec2> cell_center_;   // parameter centre of each cell
   std::vector<double> basis_;       // in-plane points x support x {R, R1, R2, R11, R12, R22}
   std::vector<ReferenceLayer> ref_; // in-plane points x layers
   std::vector<double> volume_;      // in-plane points x layers: V_q

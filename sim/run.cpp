@@ -85,7 +85,9 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options, std::ost
     summary["grid_dx"] = sim.dx();
     summary["simulated_seconds"] = sim.time();
     summary["frames"] = frames;
-    summary["particle_counts"] = {{"control_points", sim.num_control_points()},
+    summary["particle_counts"] = {{"solid_particles", 0},
+                                  {"control_points", sim.num_control_points()},
+                                  {"shear_particles", sim.num_shear_particles()},
                                   {"quadrature_points", sim.num_quadrature_points()}};
     nlohmann::json stages = nlohmann::json::object();
     double step_seconds = 0;

@@ -152,6 +152,9 @@ Material read_material(ObjectReader r) {
   m.youngs_modulus = r.number("E", Range::positive());
   m.poisson_ratio = r.number("nu", Range::open(-1.0, 0.5));
   m.density = r.number("density", Range::positive());
+  if (r.has("shear_stiffness")) m.shear_stiffness = r.number("shear_stiffness", Range::non_negative());
+  if (r.has("compression_stiffness")) m.compression_stiffness = r.number("compression_stiffness", Range::non_negative());
+  m.shear_friction = r.number_or("shear_friction", 0.0, Range::non_negative());
   const std::string transverse = r.choice_or("transverse", "condensed", {"condensed", "rigid"});
   m.transverse = transverse == "rigid" ? shell::TransverseModel::Rigid : shell::TransverseModel::Condensed;
   r.finish();
@@ -186,6 +189,9 @@ TimeSettings read_time(ObjectReader r) {
   if (r.has("dt")) t.dt = r.number("dt", Range::positive());
   t.cfl = r.number_or("cfl", t.cfl, Range::left_open(0.0, 1.0));
   t.allow_substepping = r.boolean_or("allow_substepping", t.allow_substepping);
+  t.enforce_stability_bound = r.boolean_or("enforce_stability_bound", t.enforce_stability_bound);
+  if (!t.enforce_stability_bound && !t.dt)
+    r.fail("enforce_stability_bound", "turning the stability bound off needs an explicit \"dt\"");
   r.finish();
   return t;
 }

@@ -16,6 +16,9 @@ struct Material {
   double youngs_modulus = 0;  // E [Pa]
   double poisson_ratio = 0;   // nu, in (-1, 0.5)
   double density = 0;         // rho [kg/m^3]
+  // Type-III shearing/compression model (shell/shear_model.hpp); unset stiffnesses default to mu and E.
+  std::optional<double> shear_stiffness, compression_stiffness;
+  double shear_friction = 0.0;
   // Thickness treatment of the Kirchhoff-Love in-plane stress (see shell/in_plane_stress.hpp).
   shell::TransverseModel transverse = shell::TransverseModel::Condensed;
 
@@ -62,6 +65,9 @@ struct TimeSettings {
   std::optional<double> dt;        // fixed step [s]; unset means "from the stability bound"
   double cfl = 0.5;                // safety factor on the stability bound, in (0, 1]
   bool allow_substepping = false;  // split frames into more steps when dt exceeds the bound
+  // For stability studies only: accept a dt above the bound and run it as given (the run may then fail
+  // with a numerical error, exit code 3). Off by default.
+  bool enforce_stability_bound = true;
 };
 
 struct OutputSettings {

@@ -20,6 +20,9 @@ shell::ShellMaterial shell_material(const Shell& s) {
   m.density = s.material.density;
   m.thickness = s.thickness;
   m.transverse = s.material.transverse;
+  m.shear.gamma = s.material.shear_stiffness.value_or(s.material.mu());
+  m.shear.k = s.material.compression_stiffness.value_or(s.material.youngs_modulus);
+  m.shear.friction = s.material.shear_friction;
   return m;
 }
 
@@ -43,6 +46,8 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), grid_(1.0) {
     patches_.emplace_back(s.surface, shell_material(s), s.quadrature);
     for (auto& v : patches_.back().v) v = s.initial_velocity;
     initial_positions_.push_back(patches_.back().x);
+    transfer_mass_.push_back(patches_.back().mass);
+    pin_reaction_.emplace_back(Eigen::Vector3d::Zero());
     affine_.emplace_back(scene.grid.apic ? patches_.back().x.size() : 0, Eigen::Matrix3d::Zero());
   }
   double smallest_cell = 1e300;
@@ -61,28 +66,45 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), grid_(1.0) {
     elastic_bound_ = std::min({elastic_bound_, h / c, std::sqrt(3.0) * h * h / (c * tau)});
   }
   const double allowed = scene.time.cfl * elastic_bound_;
-  if (scene.time.dt && *scene.time.dt > allowed && !scene.time.allow_substepping)
+  if (scene.time.dt && *scene.time.dt > allowed && !scene.time.allow_substepping &&
+      scene.time.enforce_stability_bound)
     throw SceneError(scene.source, "/time/dt",
                      "time step " + format_seconds(*scene.time.dt) + " s exceeds the stability bound " +
                          format_seconds(allowed) + " s (cfl " + format_seconds(scene.time.cfl) +
                          " x elastic wave bound " + format_seconds(elastic_bound_) +
                          " s): lower dt, or set \"allow_substepping\": true");
 
+  // Pinned control points are driven kinematically: they take no part in the grid transfers (their
+  // elastic force is the support reaction, not a load on their free neighbours), and act on the rest of
+  // the shell through the elastic forces alone.
+  for (const Pin& pin : scene.pins)
+    for (int k : pin.control_points) transfer_mass_[pin.shell][static_cast<size_t>(k)] = 0.0;
   for (const auto& c : scene.colliders) colliders_.push_back(c.collider);
-  sets_.resize(patches_.size());
+  // Per patch: the control points (Type II: mass, momentum, generalized force) and the shear
+  // particles (Type III: grid stress term, and the velocity gradient that advects their director).
   for (size_t i = 0; i < patches_.size(); ++i) {
-    mpm::ParticleSet& s = sets_[i];
     shell::ShellPatch& p = patches_[i];
-    s.count = p.x.size();
-    s.position = p.x.data();
-    s.velocity = p.v.data();
-    s.mass = p.mass.data();
-    s.force = p.force.data();
-    s.affine = scene.grid.apic ? affine_[i].data() : nullptr;
+    mpm::ParticleSet control;
+    control.count = p.x.size();
+    control.position = p.x.data();
+    control.velocity = p.v.data();
+    control.mass = transfer_mass_[i].data();
+    control.force = p.force.data();
+    control.affine = scene.grid.apic ? affine_[i].data() : nullptr;
+    sets_.push_back(control);
+    mpm::ParticleSet shear;
+    shear.count = p.shear.x.size();
+    shear.position = p.shear.x.data();
+    shear.velocity = p.shear.v.data();
+    shear.mass = p.shear.mass.data();
+    shear.stress = p.shear.stress.data();
+    shear.velocity_gradient = p.shear.velocity_gradient.data();
+    sets_.push_back(shear);
   }
 }
 
 double Simulation::stable_dt() const {
+  if (!scene_.time.enforce_stability_bound) return *scene_.time.dt;  // stability studies: as given
   double dt = scene_.time.cfl * elastic_bound_;
   if (scene_.time.dt) dt = std::min(dt, *scene_.time.dt);
   double vmax = 0;
@@ -121,8 +143,13 @@ void Simulation::stage_p2g() {
   auto scope = timer_.time("p2g");
   try {
     grid_.rebuild(sets_);
-  } catch (const std::domain_error& e) {
-    throw NumericalError(std::string(e.what()) + " at step " + std::to_string(steps_));
+  } catch (const mpm::GridError& e) {
+    // sets_ holds, per shell, its control points then its shear particles.
+    std::ostringstream os;
+    os << e.what() << " at " << (e.set() % 2 == 0 ? "control point " : "shear particle ") << e.particle()
+       << " of shell \"" << scene_.shells[e.set() / 2].name << "\" at step " << steps_ << " (t = " << time_
+       << " s); the time step may be too large for this material";
+    throw NumericalError(os.str());
   }
   grid_.transfer_mass_momentum(sets_);
 }
@@ -137,6 +164,14 @@ void Simulation::stage_forces() {
          << f.parameter.y() << ") of shell \"" << scene_.shells[i].name << "\" at step " << steps_ << " (t = " << time_
          << " s)";
       throw NumericalError(os.str());
+    }
+  }
+  for (auto& r : pin_reaction_) r.setZero();
+  for (const Pin& pin : scene_.pins) {
+    auto& f = patches_[pin.shell].force;
+    for (int k : pin.control_points) {
+      pin_reaction_[pin.shell] -= f[static_cast<size_t>(k)];
+      f[static_cast<size_t>(k)].setZero();
     }
   }
   grid_.transfer_forces(sets_);  // generalized control-point forces to the grid (thesis Eq. 4.8)
@@ -160,6 +195,7 @@ void Simulation::stage_g2p(double dt) {
     mpm::project_particles(p.x, p.v, colliders_, time_ + dt);
   }
   apply_pins(time_ + dt);
+  for (auto& p : patches_) p.update_shear_particles(dt);
   check_finite();
 }
 
@@ -197,6 +233,12 @@ size_t Simulation::num_control_points() const {
   return n;
 }
 
+size_t Simulation::num_shear_particles() const {
+  size_t n = 0;
+  for (const auto& p : patches_) n += p.shear.x.size();
+  return n;
+}
+
 size_t Simulation::num_quadrature_points() const {
   size_t n = 0;
   for (const auto& p : patches_) n += p.num_quadrature_points();
@@ -205,15 +247,20 @@ size_t Simulation::num_quadrature_points() const {
 
 double Simulation::kinetic_energy() const {
   double e = 0;
-  for (const auto& p : patches_)
+  for (const auto& p : patches_) {
     for (size_t k = 0; k < p.v.size(); ++k) e += 0.5 * p.mass[k] * p.v[k].squaredNorm();
+    for (size_t k = 0; k < p.shear.v.size(); ++k) e += 0.5 * p.shear.mass[k] * p.shear.v[k].squaredNorm();
+  }
   return e;
 }
 
 Eigen::Vector3d Simulation::linear_momentum() const {
   Eigen::Vector3d m = Eigen::Vector3d::Zero();
-  for (const auto& p : patches_)
-    for (size_t k = 0; k < p.v.size(); ++k) m += p.mass[k] * p.v[k];
+  for (size_t i = 0; i < patches_.size(); ++i) {
+    const auto& p = patches_[i];
+    for (size_t k = 0; k < p.v.size(); ++k) m += transfer_mass_[i][k] * p.v[k];
+    for (size_t k = 0; k < p.shear.v.size(); ++k) m += p.shear.mass[k] * p.shear.v[k];
+  }
   return m;
 }
 

@@ -43,7 +43,10 @@ class Simulation {
 
   size_t num_control_points() const;
   size_t num_quadrature_points() const;
+  size_t num_shear_particles() const;
   double kinetic_energy() const;
+  // Total force the pins exert on shell i (minus the elastic force on its pinned control points).
+  const Eigen::Vector3d& pin_reaction(size_t shell) const { return pin_reaction_[shell]; }
   Eigen::Vector3d linear_momentum() const;
   // The render mesh of every shell at the current state (the scene's output resolution).
   std::vector<render_mesh::PolyMesh> render_meshes() const;
@@ -62,6 +65,8 @@ class Simulation {
   std::vector<shell::ShellPatch> patches_;
   std::vector<std::vector<Eigen::Vector3d>> initial_positions_;  // for pins
   std::vector<std::vector<Eigen::Matrix3d>> affine_;              // APIC C_p per control point
+  std::vector<std::vector<double>> transfer_mass_;                // control point mass, zero where pinned
+  std::vector<Eigen::Vector3d> pin_reaction_;                     // per shell, from the last force stage
   std::vector<mpm::Collider> colliders_;
   mpm::SparseGrid grid_;
   std::vector<mpm::ParticleSet> sets_;

@@ -33,7 +33,9 @@ TEST(ShellPatch, CountsAndMassFollowTheThesisLayout) {
   EXPECT_EQ(p.num_quadrature_points(), 32u * 16u * 3u);  // 4x4 stencil, 3 layers
   double total = 0;
   for (double m : p.mass) total += m;
-  EXPECT_NEAR(total, 500 * 0.01 * 2.0, 1e-12);  // rho tau A
+  EXPECT_NEAR(total, (1 - kShearParticleMassShare) * 500 * 0.01 * 2.0, 1e-12);  // control points' share
+  for (double m : p.shear.mass) total += m;
+  EXPECT_NEAR(total, 500 * 0.01 * 2.0, 1e-12);  // rho tau A over Types II and III
   EXPECT_NEAR(p.reference_volume(), 0.02, 1e-15);
   for (double m : p.mass) EXPECT_GT(m, 0);
 }
@@ -84,6 +86,62 @@ TEST(ShellPatch, ForceIsMinusEnergyGradientAndConservesMomentum) {
   }
   EXPECT_LE(sum.norm(), 1e-11 * scale * static_cast<double>(f.size()));
   EXPECT_LE(torque.norm(), 1e-11 * scale * static_cast<double>(f.size()));
+}
+
+TEST(ShellPatch, ShearParticleForcesAreEnergyGradients) {
+  // Compressed, sheared directors with friction: the Type III force on the control points is minus the
+  // energy gradient, and the grid stress term carries dPsi/dd_3 (S = dPsi/dd_3 (x) d_3).
+  ShellMaterial m = material(1e6, 0.3, 0.02);
+  m.shear = {3e5, 1e6, 0.5};
+  ShellPatch p(nurbs::flat_patch(1.0, 1.0, 3, 3), m);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-0.1, 0.1);
+  for (auto& d : p.shear.director) d = Vec3(u(rng), u(rng), 0.8 + u(rng));
+  for (auto& x : p.x) x += Vec3(u(rng), u(rng), u(rng)) * 0.2;
+  ASSERT_FALSE(p.compute_forces().failed);
+  const std::vector<Vec3> f = p.force;
+  double worst = 0;
+  for (size_t i = 0; i < p.x.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double h = 1e-6, x0 = p.x[i][c];
+      p.x[i][c] = x0 + h;
+      const double ep = p.elastic_energy();
+      p.x[i][c] = x0 - h;
+      const double em = p.elastic_energy();
+      p.x[i][c] = x0;
+      worst = std::max(worst, std::abs(-(ep - em) / (2 * h) - f[i][c]));
+    }
+  EXPECT_LE(worst, 1e-6 * max_norm(f));
+  for (size_t c = 0; c < p.shear.director.size(); c += 2) {
+    const Vec3 d3 = p.shear.director[c];
+    const Vec3 g3 = p.shear.stress[c] * d3 / d3.squaredNorm();
+    for (int k = 0; k < 3; ++k) {
+      const double h = 1e-7;
+      p.shear.director[c][k] = d3[k] + h;
+      const double ep = p.elastic_energy();
+      p.shear.director[c][k] = d3[k] - h;
+      const double em = p.elastic_energy();
+      p.shear.director[c][k] = d3[k];
+      EXPECT_NEAR((ep - em) / (2 * h), g3[k], 1e-5 * g3.norm() + 1e-9);
+    }
+  }
+}
+
+TEST(ShellPatch, ShearParticlesFollowTheSurface) {
+  ShellMaterial m = material(1e6, 0.3, 0.01);
+  ShellPatch p(nurbs::cylinder_segment(0.5, 1.0, 1.5, 6, 4), m);
+  ASSERT_EQ(p.shear.x.size(), p.num_cells());
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.4, Vec3(0, 0, 1)).toRotationMatrix();
+  for (auto& x : p.x) x = R * x;
+  p.update_shear_particles(0.0);
+  const auto surf = p.current_surface();
+  for (size_t c = 0; c < p.num_cells(); ++c) {
+    // On the rotated cylinder (axis y, radius 0.5) and at the cell centre's surface point.
+    const Vec3& x = p.shear.x[c];
+    const Vec3 local = R.transpose() * x;
+    EXPECT_NEAR(std::hypot(local.x(), local.z()), 0.5, 1e-12);
+  }
+  (void)surf;
 }
 
 TEST(ShellPatch, UniformStretchTractionMatchesPlaneStress) {
