@@ -28,6 +28,7 @@ ShellPatch::ShellPatch(const nurbs::NurbsSurface& reference, const ShellMaterial
   build_masses();
   build_force_gather();
   build_shear_particles();
+  if (material_.plasticity.enabled) plastic_strain_.assign(ref_.size(), 0.0);
 }
 
 nurbs::NurbsSurface ShellPatch::current_surface() const {
@@ -189,6 +190,7 @@ ForceFailure ShellPatch::compute_forces() {
   const size_t L = layers_.xi3.size();
   const double mu = material_.mu, lambda = material_.lambda;
   const TransverseModel model = material_.transverse;
+  const bool plastic = material_.plasticity.enabled;
   std::vector<unsigned char> cell_failed(num_cells_, 0);
 
   tbb::parallel_for(tbb::blocked_range<size_t>(0, num_cells_, 16), [&](const tbb::blocked_range<size_t>& r) {
@@ -212,6 +214,9 @@ ForceFailure ShellPatch::compute_forces() {
         for (size_t l = 0; l < L; ++l) {
           const double xi3 = layers_.xi3[l];
           const Vec3 g1 = jet.a1 + xi3 * nj.dn1, g2 = jet.a2 + xi3 * nj.dn2;
+          // Plastic materials: return-map the current (trial) state first; it needs the same kinematics.
+          if (plastic)
+            von_mises_return(g1, g2, mu, lambda, material_.plasticity, ref_[q * L + l], plastic_strain_[q * L + l]);
           const InPlaneStress st = neo_hookean_in_plane(g1, g2, ref_[q * L + l], mu, lambda, model);
           if (!st.ok) {
             cell_failed[c] = 1;
@@ -278,6 +283,12 @@ bool ShellPatch::add_shear_force(size_t c, const Vec3* const* pts, Vec3* out) {
   for (int s = 0; s < support_size_; ++s) out[s] -= b[s * kStride + 1] * G.col(0) + b[s * kStride + 2] * G.col(1);
   shear.stress[c] = G.col(2) * d3.transpose();
   return true;
+}
+
+double ShellPatch::max_plastic_strain() const {
+  double m = 0;
+  for (double a : plastic_strain_) m = std::max(m, a);
+  return m;
 }
 
 double ShellPatch::elastic_energy() const {

@@ -6,6 +6,7 @@
 #include "nurbs/nurbs_surface.hpp"
 #include "shell/in_plane_stress.hpp"
 #include "shell/kinematics.hpp"
+#include "shell/plasticity.hpp"
 #include "shell/quadrature.hpp"
 #include "shell/shear_model.hpp"
 
@@ -20,6 +21,7 @@ struct ShellMaterial {
   double thickness = 0;       // tau
   TransverseModel transverse = TransverseModel::Condensed;
   ShearParams shear;          // Type-III shearing/compression model
+  PlasticityParams plasticity;  // Type-IV von Mises plasticity (metal sheets)
 };
 
 // Share of a cell's mass carried by its Type-III particle; the control points carry the rest. Type III
@@ -84,10 +86,14 @@ class ShellPatch {
 
   // Overwrites `force` with -dPsi/dx for the current positions (Type IV Kirchhoff-Love force plus the
   // Type III tangent-plane part), and fills shear.stress for the grid. Stops at the first degenerate point.
+  // For plastic materials each layer point is first return-mapped at the current (trial) state: the
+  // return mapping needs the same kinematics as the stress, so it shares this pass.
   ForceFailure compute_forces();
   // After the control points moved: Type III positions (Eq. 4.10), director advection
   // d_3 <- (I + dt grad v) d_3, and the shear return mapping.
   void update_shear_particles(double dt);
+  // Largest accumulated equivalent plastic strain over the layer points (0 when elastic).
+  double max_plastic_strain() const;
   // Total elastic energy Psi = sum_q V_q psi(F_q) of the current configuration.
   double elastic_energy() const;
   // Reference volume of the shell (sum of V_q), equal to thickness x area up to quadrature error.
@@ -117,7 +123,8 @@ class ShellPatch {
   std::vector<Vec2> param_;         // in-plane points, grouped by cell
   std::vector<Vec2> cell_center_;   // parameter centre of each cell
   std::vector<double> basis_;       // in-plane points x support x {R, R1, R2, R11, R12, R22}
-  std::vector<ReferenceLayer> ref_; // in-plane points x layers
+  std::vector<ReferenceLayer> ref_; // in-plane points x layers: rest metric (rewritten by plasticity)
+  std::vector<double> plastic_strain_;  // in-plane points x layers, only for plastic materials
   std::vector<double> volume_;      // in-plane points x layers: V_q
   // Deterministic gather of per-cell forces: control point c receives cell_force_[gather_[k]] for
   // k in gather_offsets_[c] .. gather_offsets_[c+1].

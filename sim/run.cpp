@@ -102,6 +102,9 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options, std::ost
     metrics["max_collider_penetration_cells"] = penetration / sim.dx();
     metrics["peak_kinetic_energy"] = peak_kinetic;
     metrics["final_kinetic_energy"] = sim.kinetic_energy();
+    double plastic = 0;
+    for (const auto& p : sim.patches()) plastic = std::max(plastic, p.max_plastic_strain());
+    metrics["max_plastic_strain"] = plastic;
     if (step_seconds > 0) {
       const double qps = static_cast<double>(sim.num_quadrature_points()) * static_cast<double>(sim.steps()) / step_seconds;
       metrics["quadrature_point_steps_per_second"] = qps;

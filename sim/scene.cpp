@@ -155,6 +155,12 @@ Material read_material(ObjectReader r) {
   if (r.has("shear_stiffness")) m.shear_stiffness = r.number("shear_stiffness", Range::non_negative());
   if (r.has("compression_stiffness")) m.compression_stiffness = r.number("compression_stiffness", Range::non_negative());
   m.shear_friction = r.number_or("shear_friction", 0.0, Range::non_negative());
+  if (auto plastic = r.optional_object("plasticity")) {
+    m.plasticity.enabled = true;
+    m.plasticity.yield_stress = plastic->number("yield_stress", Range::positive());
+    m.plasticity.hardening = plastic->number_or("hardening", 0.0, Range::non_negative());
+    plastic->finish();
+  }
   const std::string transverse = r.choice_or("transverse", "condensed", {"condensed", "rigid"});
   m.transverse = transverse == "rigid" ? shell::TransverseModel::Rigid : shell::TransverseModel::Condensed;
   r.finish();

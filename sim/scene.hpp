@@ -6,6 +6,7 @@
 #include "mpm/colliders.hpp"
 #include "nurbs/nurbs_surface.hpp"
 #include "shell/in_plane_stress.hpp"
+#include "shell/plasticity.hpp"
 #include "shell/quadrature.hpp"
 
 namespace shellfrac::sim {
@@ -19,6 +20,8 @@ struct Material {
   // Type-III shearing/compression model (shell/shear_model.hpp); unset stiffnesses default to mu and E.
   std::optional<double> shear_stiffness, compression_stiffness;
   double shear_friction = 0.0;
+  // Von Mises plasticity of the in-plane stress (metal sheets); enabled by a "plasticity" object.
+  shell::PlasticityParams plasticity;
   // Thickness treatment of the Kirchhoff-Love in-plane stress (see shell/in_plane_stress.hpp).
   shell::TransverseModel transverse = shell::TransverseModel::Condensed;
 

@@ -23,6 +23,7 @@ shell::ShellMaterial shell_material(const Shell& s) {
   m.shear.gamma = s.material.shear_stiffness.value_or(s.material.mu());
   m.shear.k = s.material.compression_stiffness.value_or(s.material.youngs_modulus);
   m.shear.friction = s.material.shear_friction;
+  m.plasticity = s.material.plasticity;
   return m;
 }
 

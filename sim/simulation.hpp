@@ -14,7 +14,9 @@ namespace shellfrac::sim {
 // A running scene: the Kirchhoff-Love shell patches on a sparse MPM grid (thesis sec. 4.3.2), advanced
 // by explicit symplectic Euler through named, timed stages:
 //   p2g -> forces -> grid_update -> g2p
-// (coupling, constitutive updates and crack extraction join this pipeline in later features).
+// The constitutive updates run where their kinematics are at hand: the Type III director update and
+// return mapping at the end of g2p, the Type IV plastic return mapping inside the force pass (on the
+// trial state of the new positions, before the stress). Coupling and crack extraction join later.
 class Simulation {
  public:
   explicit Simulation(const Scene& scene);

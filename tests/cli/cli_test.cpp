@@ -122,4 +122,38 @@ TEST(Cli, RunDefaultWritesSummaryAndMesh) {
   fs::remove_all(d);
 }
 
+TEST(Cli, NumericalFailureExitsThreeAndKeepsFrames) {
+  // A step 26x above the stability bound (allowed only for stability studies) blows up.
+  const fs::path d = scratch("blowup");
+  std::ofstream(d / "unstable.json") << R"({"time": {"end": 1.0, "frame_rate": 24, "dt": 0.05,
+    "enforce_stability_bound": false}, "output": {"resolution": [8, 8]},
+    "shells": [{"name": "cloth", "patch": {"type": "flat", "size": [1, 1], "cells": [16, 16]},
+                "thickness": 0.0005, "material": {"E": 1e5, "nu": 0.3, "density": 300}}],
+    "pins": [{"shell": "cloth", "region": {"u": [0, 0.05], "v": [0, 0.05]}}]})";
+  const Result r = shellfrac("run " + (d / "unstable.json").string() + " --out " + (d / "out").string());
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("shell \"cloth\""));
+  EXPECT_THAT(r.output, HasSubstr("at step"));
+  std::ifstream in(d / "out" / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_EQ(s["status"], "failed");
+  EXPECT_THAT(s["error"].get<std::string>(), HasSubstr("cloth"));
+  ASSERT_GE(s["frames"].size(), 1u);
+  // Every frame listed is complete: 9 x 9 vertices, 64 faces, and no temporary files remain.
+  for (const auto& f : s["frames"]) {
+    std::ifstream obj(d / "out" / f.get<std::string>());
+    std::string line;
+    int vertices = 0, faces = 0;
+    while (std::getline(obj, line)) {
+      vertices += line.rfind("v ", 0) == 0;
+      faces += line.rfind("f ", 0) == 0;
+    }
+    EXPECT_EQ(vertices, 81);
+    EXPECT_EQ(faces, 64);
+  }
+  for (const auto& e : fs::directory_iterator(d / "out" / "frames"))
+    EXPECT_EQ(e.path().filename().string().rfind(".", 0), std::string::npos) << e.path();
+  fs::remove_all(d);
+}
+
 }  // namespace

@@ -121,5 +121,39 @@ TEST(Dynamics, BlowUpIsReportedWithShellAndStep) {
   }
 }
 
+TEST(Dynamics, PlasticSheetKeepsADentElasticSheetDoesNot) {
+  // A clamped 0.4 m square sheet is pressed 4 cm deep at its centre by a sphere that then withdraws.
+  // With von Mises plasticity the dent stays; without, the sheet springs back.
+  auto run = [](bool plastic) {
+    const std::string plasticity = plastic ? R"(, "plasticity": {"yield_stress": 1e6})" : "";
+    const Scene scene = parse_scene(R"({"name": "dent", "gravity": [0, 0, 0], "damping": 25,
+      "shells": [{"name": "sheet", "patch": {"type": "flat", "size": [0.4, 0.4], "cells": [12, 12],
+                  "origin": [-0.2, -0.2, 0]},
+                  "thickness": 0.002, "material": {"E": 2e8, "nu": 0.3, "density": 2700)" + plasticity + R"(}}],
+      "colliders": [{"shape": "sphere", "center": [0, 0, 0.051], "radius": 0.05, "boundary": "slip",
+                     "motion": {"keyframes": [{"time": 0, "translation": [0, 0, 0]},
+                                              {"time": 0.05, "translation": [0, 0, -0.04]},
+                                              {"time": 0.08, "translation": [0, 0, 0.1]}]}}],
+      "pins": [{"shell": 0, "region": {"u": [0, 0.05]}}, {"shell": 0, "region": {"u": [0.95, 1]}},
+               {"shell": 0, "region": {"v": [0, 0.05]}}, {"shell": 0, "region": {"v": [0.95, 1]}}]})",
+                                    "dent.json");
+    Simulation sim(scene);
+    sim.advance_to(0.05);
+    const double pressed = sim.patches()[0].current_surface().point(0.5, 0.5).z();
+    sim.advance_to(0.2);
+    const double after = sim.patches()[0].current_surface().point(0.5, 0.5).z();
+    return std::make_tuple(pressed, after, sim.patches()[0].max_plastic_strain());
+  };
+  const auto [pressed_p, after_p, strain_p] = run(true);
+  const auto [pressed_e, after_e, strain_e] = run(false);
+  EXPECT_LT(pressed_p, -0.03);  // the sphere pushed the centre down about 4 cm
+  EXPECT_LT(pressed_e, -0.03);
+  EXPECT_LT(after_p, 0.5 * pressed_p);   // the plastic sheet keeps more than half of the dent
+  EXPECT_GT(after_e, 0.15 * pressed_e);  // the elastic sheet springs back to within 15%, still settling
+  EXPECT_LT(after_e, -0.15 * pressed_e);
+  EXPECT_GT(strain_p, 0.005);
+  EXPECT_EQ(strain_e, 0.0);
+}
+
 }  // namespace
 }  // namespace shellfrac::sim
