@@ -18,6 +18,8 @@ struct ParticleSet {
   // Eulerian stress term per particle: node i receives -S_p grad w_ip (thesis Eq. 2.17 with
   // S_p = V_p^0 P F^T).
   const Mat3* stress = nullptr;
+  // With the MLS-MPM force form (thesis Eq. 2.24) node i receives -D^-1 S_p (x_i - x_p) w_ip instead.
+  bool mls_force = false;
   // APIC affine velocity C_p (thesis Eq. 2.23, 2.25): read in p2g and written in g2p when non-null.
   Mat3* affine = nullptr;
   // Grid velocity gradient sum_i v_i grad w_ip^T at the particle, written in g2p when non-null.

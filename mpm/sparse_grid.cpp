@@ -202,15 +202,23 @@ void SparseGrid::transfer_mass_momentum(const std::vector<ParticleSet>& sets) {
 }
 
 void SparseGrid::transfer_forces(const std::vector<ParticleSet>& sets) {
+  const double inv_d = apic_inverse_d(dx_);
   for_blocks_coloured([&](uint32_t b) {
     for (uint32_t e = bin_offsets_[b]; e < bin_offsets_[b + 1]; ++e) {
       const ParticleSet& s = sets[entries_[e].set];
       if (!s.force && !s.stress) continue;
       const uint32_t p = entries_[e].index;
       const StencilWeights sw = stencil_weights(s.position[p], inv_dx_);
+      const Vec3& xp = s.position[p];
       for_stencil(b, sw, [&](size_t node, int i, int j, int k) {
         if (s.force) force_[node] += sw.weight(i, j, k) * s.force[p];
-        if (s.stress) force_[node] -= s.stress[p] * sw.gradient(i, j, k);
+        if (!s.stress) return;
+        if (s.mls_force) {
+          const Vec3 xi(sw.ax[0].base + i, sw.ax[1].base + j, sw.ax[2].base + k);
+          force_[node] -= (inv_d * sw.weight(i, j, k)) * (s.stress[p] * (xi * dx_ - xp));
+        } else {
+          force_[node] -= s.stress[p] * sw.gradient(i, j, k);
+        }
       });
     }
   });

@@ -75,7 +75,10 @@ aiMesh* to_ai_mesh(const PolyMesh& m) {
     face.mNumIndices = static_cast<unsigned>(e - b);
     face.mIndices = new unsigned[face.mNumIndices];
     for (int k = b; k < e; ++k) face.mIndices[k - b] = static_cast<unsigned>(m.face_vertices[k]);
-    types |= face.mNumIndices == 3 ? aiPrimitiveType_TRIANGLE : aiPrimitiveType_POLYGON;
+    types |= face.mNumIndices == 1   ? aiPrimitiveType_POINT
+             : face.mNumIndices == 2 ? aiPrimitiveType_LINE
+             : face.mNumIndices == 3 ? aiPrimitiveType_TRIANGLE
+                                     : aiPrimitiveType_POLYGON;
   }
   out->mPrimitiveTypes = types;
   return out;

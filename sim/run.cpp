@@ -85,7 +85,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options, std::ost
     summary["grid_dx"] = sim.dx();
     summary["simulated_seconds"] = sim.time();
     summary["frames"] = frames;
-    summary["particle_counts"] = {{"solid_particles", 0},
+    summary["particle_counts"] = {{"solid_particles", sim.num_solid_particles()},
                                   {"control_points", sim.num_control_points()},
                                   {"shear_particles", sim.num_shear_particles()},
                                   {"quadrature_points", sim.num_quadrature_points()}};

@@ -255,9 +255,11 @@ Scene parse_scene(const std::string& json_text, const std::string& source) {
   scene.name = root.string_or("name", stem_of(source));
   if (auto t = root.optional_object("time")) scene.time = read_time(*t);
   if (auto o = root.optional_object("output")) scene.output = read_output(*o);
-  const Json& shells = root.array("shells", 1);
-  for (size_t i = 0; i < shells.size(); ++i)
-    scene.shells.push_back(read_shell(ObjectReader(shells[i], "/shells/" + std::to_string(i), source), i));
+  if (root.has("shells")) {
+    const Json& shells = root.array("shells");
+    for (size_t i = 0; i < shells.size(); ++i)
+      scene.shells.push_back(read_shell(ObjectReader(shells[i], "/shells/" + std::to_string(i), source), i));
+  }
   const auto g = root.numbers_or("gravity", {0.0, -9.81, 0.0});
   scene.gravity = Eigen::Vector3d(g[0], g[1], g[2]);
   scene.damping = root.number_or("damping", 0.0, Range::non_negative());
@@ -266,6 +268,8 @@ Scene parse_scene(const std::string& json_text, const std::string& source) {
     scene.grid.apic = grid->choice_or("transfer", "pic", {"pic", "apic"}) == "apic";
     grid->finish();
   }
+  scene.solids = read_solids(root);
+  if (scene.shells.empty() && scene.solids.empty()) root.fail("shells", "a scene needs at least one shell or solid");
   scene.colliders = read_colliders(root);
   scene.pins = read_pins(root, scene.shells);
   root.finish();

@@ -1,4 +1,5 @@
 #pragma once
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,6 +40,19 @@ struct Shell {
   double thickness = 0;  // tau [m]
   Material material;
   shell::QuadratureRule quadrature;
+  Eigen::Vector3d initial_velocity = Eigen::Vector3d::Zero();
+};
+
+// A volumetric solid (Type-I particles) sampled inside an analytic shape.
+struct SolidBody {
+  std::string name;
+  std::string shape;  // "sphere" or "box"
+  std::shared_ptr<const mpm::Shape> geometry;
+  Eigen::Vector3d lo, hi;  // bounding box to sample
+  double spacing = 0;      // particle spacing [m]
+  bool poisson_disk = false;
+  unsigned seed = 1;
+  Material material;
   Eigen::Vector3d initial_velocity = Eigen::Vector3d::Zero();
 };
 
@@ -88,6 +102,7 @@ struct Scene {
   double damping = 0.0;  // velocity damping rate [1/s] applied on the grid (for quasi-static runs)
   GridSettings grid;
   std::vector<Shell> shells;
+  std::vector<SolidBody> solids;
   std::vector<ColliderSpec> colliders;
   std::vector<Pin> pins;
 };

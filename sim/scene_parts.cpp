@@ -73,6 +73,47 @@ std::vector<ColliderSpec> read_colliders(ObjectReader& root) {
   return out;
 }
 
+std::vector<SolidBody> read_solids(ObjectReader& root) {
+  std::vector<SolidBody> out;
+  if (!root.has("solids")) return out;
+  const Json& list = root.array("solids");
+  for (size_t i = 0; i < list.size(); ++i) {
+    ObjectReader r(list[i], "/solids/" + std::to_string(i), root.file());
+    SolidBody b;
+    b.name = r.string_or("name", "solid" + std::to_string(i));
+    b.shape = r.choice("shape", {"sphere", "box"});
+    const Eigen::Vector3d c = vec3(r.numbers("center", 3));
+    if (b.shape == "sphere") {
+      const double radius = r.number("radius", Range::positive());
+      b.geometry = std::make_shared<mpm::Sphere>(c, radius);
+      b.lo = c - Eigen::Vector3d::Constant(radius);
+      b.hi = c + Eigen::Vector3d::Constant(radius);
+    } else {
+      const Eigen::Vector3d h = vec3(r.numbers("half_extents", 3, Range::positive()));
+      b.geometry = std::make_shared<mpm::Box>(c, h);
+      b.lo = c - h;
+      b.hi = c + h;
+    }
+    b.spacing = r.number("spacing", Range::positive());
+    if ((b.hi - b.lo).minCoeff() < b.spacing)
+      r.fail("spacing", "spacing is larger than the solid: no particle would fit");
+    if (((b.hi - b.lo) / b.spacing).prod() > 5e7)
+      r.fail("spacing", "spacing would create more than 50 million particles");
+    b.poisson_disk = r.choice_or("sampling", "jittered", {"jittered", "poisson_disk"}) == "poisson_disk";
+    b.seed = static_cast<unsigned>(r.integer_or("seed", 1, Range::closed(0, 2147483647)));
+    ObjectReader m = r.object("material");
+    b.material.model = m.choice_or("model", "neo_hookean", {"neo_hookean"});
+    b.material.youngs_modulus = m.number("E", Range::positive());
+    b.material.poisson_ratio = m.number("nu", Range::open(-1.0, 0.5));
+    b.material.density = m.number("density", Range::positive());
+    m.finish();
+    b.initial_velocity = vec3(r.numbers_or("initial_velocity", {0, 0, 0}));
+    r.finish();
+    out.push_back(std::move(b));
+  }
+  return out;
+}
+
 std::vector<Pin> read_pins(ObjectReader& root, const std::vector<Shell>& shells) {
   std::vector<Pin> out;
   if (!root.has("pins")) return out;

@@ -53,6 +53,18 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), grid_(1.0) {
   }
   double smallest_cell = 1e300;
   for (const auto& p : patches_) smallest_cell = std::min(smallest_cell, cell_size(p));
+  for (const SolidBody& b : scene.solids) {
+    mpm::SolidParticles solid;
+    const Material& m = b.material;
+    solid.material = {m.mu(), m.lambda(), m.density};
+    solid.add(b.poisson_disk ? mpm::sample_poisson_disk(*b.geometry, b.lo, b.hi, b.spacing, b.seed)
+                             : mpm::sample_jittered(*b.geometry, b.lo, b.hi, b.spacing, b.seed),
+              b.spacing, b.initial_velocity);
+    if (solid.size() == 0)
+      throw SceneError(scene.source, "/solids", "solid \"" + b.name + "\" received no particles");
+    solids_.push_back(std::move(solid));
+    smallest_cell = std::min(smallest_cell, 2.0 * b.spacing);  // about 2 particles per cell and axis
+  }
   grid_ = mpm::SparseGrid(scene.grid.dx.value_or(smallest_cell));
 
   // Elastic-wave bound per shell (explicit integration): membrane waves need dt < h / c, bending
@@ -65,6 +77,10 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), grid_(1.0) {
     const double h = std::min(grid_.dx(), cell_size(patches_[i]));
     const double tau = scene.shells[i].thickness;
     elastic_bound_ = std::min({elastic_bound_, h / c, std::sqrt(3.0) * h * h / (c * tau)});
+  }
+  for (const SolidBody& b : scene.solids) {  // dilatational wave speed sqrt((lambda + 2 mu) / rho)
+    const Material& m = b.material;
+    elastic_bound_ = std::min(elastic_bound_, grid_.dx() / std::sqrt((m.lambda() + 2 * m.mu()) / m.density));
   }
   const double allowed = scene.time.cfl * elastic_bound_;
   if (scene.time.dt && *scene.time.dt > allowed && !scene.time.allow_substepping &&
@@ -102,6 +118,7 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), grid_(1.0) {
     shear.velocity_gradient = p.shear.velocity_gradient.data();
     sets_.push_back(shear);
   }
+  for (auto& solid : solids_) sets_.push_back(solid.view());
 }
 
 double Simulation::stable_dt() const {
@@ -111,6 +128,8 @@ double Simulation::stable_dt() const {
   double vmax = 0;
   for (const auto& p : patches_)
     for (const auto& v : p.v) vmax = std::max(vmax, v.norm());
+  for (const auto& s : solids_)
+    for (const auto& v : s.v) vmax = std::max(vmax, v.norm());
   if (vmax > 0) dt = std::min(dt, scene_.time.cfl * grid_.dx() / vmax);
   return dt;
 }
@@ -145,11 +164,15 @@ void Simulation::stage_p2g() {
   try {
     grid_.rebuild(sets_);
   } catch (const mpm::GridError& e) {
-    // sets_ holds, per shell, its control points then its shear particles.
+    // sets_ holds, per shell, its control points then its shear particles; then the solids.
     std::ostringstream os;
-    os << e.what() << " at " << (e.set() % 2 == 0 ? "control point " : "shear particle ") << e.particle()
-       << " of shell \"" << scene_.shells[e.set() / 2].name << "\" at step " << steps_ << " (t = " << time_
-       << " s); the time step may be too large for this material";
+    os << e.what() << " at ";
+    if (e.set() < 2 * patches_.size())
+      os << (e.set() % 2 == 0 ? "control point " : "shear particle ") << e.particle() << " of shell \""
+         << scene_.shells[e.set() / 2].name << "\"";
+    else
+      os << "particle " << e.particle() << " of solid \"" << scene_.solids[e.set() - 2 * patches_.size()].name << "\"";
+    os << " at step " << steps_ << " (t = " << time_ << " s); the time step may be too large for this material";
     throw NumericalError(os.str());
   }
   grid_.transfer_mass_momentum(sets_);
@@ -164,6 +187,15 @@ void Simulation::stage_forces() {
       os << f.reason << ", quadrature point " << f.quadrature_point << " at parameter (" << f.parameter.x() << ", "
          << f.parameter.y() << ") of shell \"" << scene_.shells[i].name << "\" at step " << steps_ << " (t = " << time_
          << " s)";
+      throw NumericalError(os.str());
+    }
+  }
+  for (size_t i = 0; i < solids_.size(); ++i) {
+    const size_t bad = solids_[i].compute_stress();
+    if (bad < solids_[i].size()) {
+      std::ostringstream os;
+      os << "inverted or non-finite deformation (det F <= 0) at particle " << bad << " of solid \""
+         << scene_.solids[i].name << "\" at step " << steps_ << " (t = " << time_ << " s)";
       throw NumericalError(os.str());
     }
   }
@@ -195,6 +227,10 @@ void Simulation::stage_g2p(double dt) {
     tbb::parallel_for(size_t{0}, p.x.size(), [&](size_t k) { p.x[k] += dt * p.v[k]; });  // thesis Eq. 4.9
     mpm::project_particles(p.x, p.v, colliders_, time_ + dt);
   }
+  for (auto& solid : solids_) {
+    solid.update(dt);
+    mpm::project_particles(solid.x, solid.v, colliders_, time_ + dt);
+  }
   apply_pins(time_ + dt);
   for (auto& p : patches_) p.update_shear_particles(dt);
   check_finite();
@@ -214,6 +250,11 @@ void Simulation::apply_pins(double t) {
 }
 
 void Simulation::check_finite() const {
+  for (size_t i = 0; i < solids_.size(); ++i)
+    for (size_t k = 0; k < solids_[i].size(); ++k)
+      if (!solids_[i].x[k].allFinite() || !solids_[i].v[k].allFinite())
+        throw NumericalError("non-finite position or velocity (NaN/inf) at particle " + std::to_string(k) +
+                             " of solid \"" + scene_.solids[i].name + "\" at step " + std::to_string(steps_));
   for (size_t i = 0; i < patches_.size(); ++i) {
     const auto& p = patches_[i];
     for (size_t k = 0; k < p.x.size(); ++k) {
@@ -240,6 +281,12 @@ size_t Simulation::num_shear_particles() const {
   return n;
 }
 
+size_t Simulation::num_solid_particles() const {
+  size_t n = 0;
+  for (const auto& s : solids_) n += s.size();
+  return n;
+}
+
 size_t Simulation::num_quadrature_points() const {
   size_t n = 0;
   for (const auto& p : patches_) n += p.num_quadrature_points();
@@ -252,6 +299,8 @@ double Simulation::kinetic_energy() const {
     for (size_t k = 0; k < p.v.size(); ++k) e += 0.5 * p.mass[k] * p.v[k].squaredNorm();
     for (size_t k = 0; k < p.shear.v.size(); ++k) e += 0.5 * p.shear.mass[k] * p.shear.v[k].squaredNorm();
   }
+  for (const auto& s : solids_)
+    for (size_t k = 0; k < s.size(); ++k) e += 0.5 * s.mass[k] * s.v[k].squaredNorm();
   return e;
 }
 
@@ -262,6 +311,8 @@ Eigen::Vector3d Simulation::linear_momentum() const {
     for (size_t k = 0; k < p.v.size(); ++k) m += transfer_mass_[i][k] * p.v[k];
     for (size_t k = 0; k < p.shear.v.size(); ++k) m += p.shear.mass[k] * p.shear.v[k];
   }
+  for (const auto& s : solids_)
+    for (size_t k = 0; k < s.size(); ++k) m += s.mass[k] * s.v[k];
   return m;
 }
 
@@ -271,6 +322,14 @@ std::vector<render_mesh::PolyMesh> Simulation::render_meshes() const {
     meshes[i] = render_mesh::tessellate(patches_[i].current_surface(), scene_.output.resolution_u,
                                         scene_.output.resolution_v, scene_.shells[i].name);
   });
+  // Solids as point clouds (one point primitive per particle).
+  for (size_t i = 0; i < solids_.size(); ++i) {
+    render_mesh::PolyMesh cloud;
+    cloud.name = scene_.solids[i].name;
+    cloud.positions = solids_[i].x;
+    for (int k = 0; k < static_cast<int>(solids_[i].size()); ++k) cloud.add_face({k});
+    meshes.push_back(std::move(cloud));
+  }
   return meshes;
 }
 

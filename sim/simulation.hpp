@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "mpm/solid_particles.hpp"
 #include "mpm/sparse_grid.hpp"
 #include "render_mesh/poly_mesh.hpp"
 #include "shell/shell_patch.hpp"
@@ -46,6 +47,8 @@ class Simulation {
   size_t num_control_points() const;
   size_t num_quadrature_points() const;
   size_t num_shear_particles() const;
+  size_t num_solid_particles() const;
+  std::vector<mpm::SolidParticles>& solids() { return solids_; }
   double kinetic_energy() const;
   // Total force the pins exert on shell i (minus the elastic force on its pinned control points).
   const Eigen::Vector3d& pin_reaction(size_t shell) const { return pin_reaction_[shell]; }
@@ -69,6 +72,7 @@ class Simulation {
   std::vector<std::vector<Eigen::Matrix3d>> affine_;              // APIC C_p per control point
   std::vector<std::vector<double>> transfer_mass_;                // control point mass, zero where pinned
   std::vector<Eigen::Vector3d> pin_reaction_;                     // per shell, from the last force stage
+  std::vector<mpm::SolidParticles> solids_;
   std::vector<mpm::Collider> colliders_;
   mpm::SparseGrid grid_;
   std::vector<mpm::ParticleSet> sets_;

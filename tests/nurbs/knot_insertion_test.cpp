@@ -11,6 +11,7 @@
 
 #include "nurbs/nurbs_error.hpp"
 #include "nurbs/patch_builders.hpp"
+#include "tests/nurbs/nurbs_test_helpers.hpp"
 
 namespace shellfrac::nurbs {
 namespace {
@@ -19,17 +20,6 @@ using ::testing::AllOf;
 using ::testing::HasSubstr;
 
 constexpr double kPi = 3.14159265358979323846;
-
-template <class F>
-std::string error_message(F&& f) {
-  try {
-    f();
-  } catch (const NurbsError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected NurbsError";
-  return {};
-}
 
 NurbsCurve cubic_curve(bool rational) {
   KnotVector kv({0, 0, 0, 0, 0.25, 0.6, 1, 1, 1, 1}, 3);

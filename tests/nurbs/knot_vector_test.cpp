@@ -10,24 +10,13 @@
 #include <vector>
 
 #include "nurbs/nurbs_error.hpp"
+#include "tests/nurbs/nurbs_test_helpers.hpp"
 
 namespace shellfrac::nurbs {
 namespace {
 
 using ::testing::AllOf;
 using ::testing::HasSubstr;
-
-// Runs `f`, expects a NurbsError and returns its message (empty if nothing was thrown).
-template <class F>
-std::string error_message(F&& f) {
-  try {
-    f();
-  } catch (const NurbsError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected NurbsError";
-  return {};
-}
 
 TEST(KnotVector, BasicCountsAndDomain) {
   const KnotVector kv({0, 0, 0, 1, 2, 3, 4, 4, 4}, 2);

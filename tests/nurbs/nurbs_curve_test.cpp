@@ -12,6 +12,7 @@
 
 #include "nurbs/bspline_basis.hpp"
 #include "nurbs/nurbs_error.hpp"
+#include "tests/nurbs/nurbs_test_helpers.hpp"
 
 namespace shellfrac::nurbs {
 namespace {
@@ -20,17 +21,6 @@ using ::testing::AllOf;
 using ::testing::HasSubstr;
 
 constexpr double kPi = 3.14159265358979323846;
-
-template <class F>
-std::string error_message(F&& f) {
-  try {
-    f();
-  } catch (const NurbsError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected NurbsError";
-  return {};
-}
 
 NurbsCurve sample_rational_cubic() {
   KnotVector kv({0, 0, 0, 0, 0.4, 0.7, 1, 1, 1, 1}, 3);

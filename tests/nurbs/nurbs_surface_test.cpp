@@ -13,23 +13,13 @@
 
 #include "nurbs/bspline_basis.hpp"
 #include "nurbs/nurbs_error.hpp"
+#include "tests/nurbs/nurbs_test_helpers.hpp"
 
 namespace shellfrac::nurbs {
 namespace {
 
 using ::testing::AllOf;
 using ::testing::HasSubstr;
-
-template <class F>
-std::string error_message(F&& f) {
-  try {
-    f();
-  } catch (const NurbsError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected NurbsError";
-  return {};
-}
 
 // A wavy rational surface: quadratic in u (5 functions), cubic in v (6 functions), non-uniform knots.
 NurbsSurface wavy_rational_surface() {

@@ -155,5 +155,27 @@ TEST(Dynamics, PlasticSheetKeepsADentElasticSheetDoesNot) {
   EXPECT_EQ(strain_e, 0.0);
 }
 
+TEST(Dynamics, SoftBallFallsAndRestsOnTheGround) {
+  // Type-I solid in free fall gains exactly M g t of momentum, then rests on a sticky ground without
+  // sinking more than half a grid cell.
+  Simulation sim(parse_scene(R"({"name": "ball", "grid": {"dx": 0.02},
+    "solids": [{"name": "ball", "shape": "sphere", "center": [0, 0.2, 0], "radius": 0.05, "spacing": 0.01,
+                "material": {"E": 1e5, "nu": 0.3, "density": 500}}],
+    "colliders": [{"shape": "half_space", "point": [0, 0, 0], "normal": [0, 1, 0], "boundary": "sticky"}]})",
+                             "ball.json"));
+  double M = 0;
+  for (double m : sim.solids()[0].mass) M += m;
+  sim.advance_to(0.05);  // still falling: 0.2 - 0.05 - g t^2 / 2 > 0
+  EXPECT_NEAR(sim.linear_momentum().y(), -M * 9.81 * 0.05, 1e-9 * M);
+  EXPECT_NEAR(sim.linear_momentum().x(), 0.0, 1e-12 * M);
+  double lowest = 1e9;  // over the whole fall, bounce included
+  for (double t = 0.06; t <= 0.6; t += 0.01) {
+    sim.advance_to(t);
+    for (const auto& x : sim.solids()[0].x) lowest = std::min(lowest, x.y());
+  }
+  EXPECT_GT(lowest, -0.5 * 0.02);
+  EXPECT_LT(lowest, 0.02);  // and it did reach the ground
+}
+
 }  // namespace
 }  // namespace shellfrac::sim
