@@ -9,7 +9,8 @@ packages=(
   nlohmann-json3-dev     # scene files, summary.json
   libcli11-dev           # command-line parsing
   libtbb-dev             # threads
-  libassimp-dev          # mesh export (OBJ and every assimp format)
+  libassimp-dev          # mesh import and export (OBJ and every assimp format)
+  libopenvdb-dev libboost-iostreams-dev  # level sets of imported meshes (solids, mesh colliders)
   libgtest-dev libgmock-dev  # tests
   libbenchmark-dev       # micro-benchmarks
 )

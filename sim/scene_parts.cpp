@@ -1,4 +1,8 @@
+#include <filesystem>
 #include <memory>
+
+#include "mpm/level_set_shape.hpp"
+#include "sim/mesh_import.hpp"
 
 #include "sim/scene_parts.hpp"
 
@@ -12,6 +16,22 @@ Eigen::Vector3d unit_vector(ObjectReader& r, const std::string& key, std::vector
   const Eigen::Vector3d v = vec3(fallback.empty() ? r.numbers(key, 3) : r.numbers_or(key, fallback));
   if (v.norm() < 1e-12) r.fail(key, "direction must be a non-zero vector");
   return v.normalized();
+}
+
+// A mesh file (relative paths from the scene's folder) as a level set; errors name the "file" key.
+std::shared_ptr<const mpm::LevelSetShape> read_mesh_shape(ObjectReader& r, double voxel) {
+  const std::string file = r.string("file");
+  std::filesystem::path path(file);
+  if (path.is_relative()) path = std::filesystem::path(r.file()).parent_path() / path;
+  const double scale = r.number_or("scale", 1.0, Range::positive());
+  const Eigen::Vector3d translate = vec3(r.numbers_or("translate", {0, 0, 0}));
+  const double band = r.number_or("band_voxels", 3.0, Range::closed(1.0, 100.0));
+  try {
+    const TriangleMesh mesh = import_mesh(path.string(), scale, translate);
+    return std::make_shared<mpm::LevelSetShape>(mesh.vertices, mesh.triangles, voxel, band);
+  } catch (const std::exception& e) {
+    r.fail("file", path.string() + ": " + e.what());
+  }
 }
 
 mpm::Boundary read_boundary(ObjectReader& r) {
@@ -55,8 +75,10 @@ std::vector<ColliderSpec> read_colliders(ObjectReader& root) {
     ObjectReader r(list[i], "/colliders/" + std::to_string(i), root.file());
     ColliderSpec c;
     c.name = r.string_or("name", "collider" + std::to_string(i));
-    c.shape = r.choice("shape", {"half_space", "sphere", "box"});
-    if (c.shape == "half_space") {
+    c.shape = r.choice("shape", {"half_space", "sphere", "box", "mesh"});
+    if (c.shape == "mesh") {
+      c.collider.shape = read_mesh_shape(r, r.number("voxel_size", Range::positive()));
+    } else if (c.shape == "half_space") {
       c.collider.shape = std::make_shared<mpm::HalfSpace>(vec3(r.numbers("point", 3)), unit_vector(r, "normal", {}));
     } else if (c.shape == "sphere") {
       c.collider.shape = std::make_shared<mpm::Sphere>(vec3(r.numbers("center", 3)), r.number("radius", Range::positive()));
@@ -81,20 +103,26 @@ std::vector<SolidBody> read_solids(ObjectReader& root) {
     ObjectReader r(list[i], "/solids/" + std::to_string(i), root.file());
     SolidBody b;
     b.name = r.string_or("name", "solid" + std::to_string(i));
-    b.shape = r.choice("shape", {"sphere", "box"});
-    const Eigen::Vector3d c = vec3(r.numbers("center", 3));
-    if (b.shape == "sphere") {
+    b.shape = r.choice("shape", {"sphere", "box", "mesh"});
+    b.spacing = r.number("spacing", Range::positive());
+    if (b.shape == "mesh") {
+      const auto level_set = read_mesh_shape(r, r.number_or("voxel_size", 0.5 * b.spacing, Range::positive()));
+      b.geometry = level_set;
+      b.lo = level_set->lower();
+      b.hi = level_set->upper();
+    } else if (b.shape == "sphere") {
+      const Eigen::Vector3d c = vec3(r.numbers("center", 3));
       const double radius = r.number("radius", Range::positive());
       b.geometry = std::make_shared<mpm::Sphere>(c, radius);
       b.lo = c - Eigen::Vector3d::Constant(radius);
       b.hi = c + Eigen::Vector3d::Constant(radius);
     } else {
+      const Eigen::Vector3d c = vec3(r.numbers("center", 3));
       const Eigen::Vector3d h = vec3(r.numbers("half_extents", 3, Range::positive()));
       b.geometry = std::make_shared<mpm::Box>(c, h);
       b.lo = c - h;
       b.hi = c + h;
     }
-    b.spacing = r.number("spacing", Range::positive());
     if ((b.hi - b.lo).minCoeff() < b.spacing)
       r.fail("spacing", "spacing is larger than the solid: no particle would fit");
     if (((b.hi - b.lo) / b.spacing).prod() > 5e7)

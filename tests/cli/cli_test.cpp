@@ -85,6 +85,18 @@ TEST(Cli, ValidateRejectsBrokenSceneWithPath) {
   fs::remove_all(d);
 }
 
+TEST(Cli, MeshThatFailsToImportIsBadInput) {
+  const fs::path d = scratch("badmesh");
+  std::ofstream(d / "broken.obj") << "this is not a mesh\n";
+  std::ofstream(d / "scene.json") << R"({"solids": [{"shape": "mesh", "file": "broken.obj", "spacing": 0.05,
+    "material": {"E": 1e5, "nu": 0.3, "density": 100}}]})";
+  const Result r = shellfrac("validate " + (d / "scene.json").string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.output, HasSubstr("/solids/0/file"));
+  EXPECT_THAT(r.output, HasSubstr("broken.obj"));
+  fs::remove_all(d);
+}
+
 TEST(Cli, RunDefaultWritesSummaryAndMesh) {
   const fs::path d = scratch("run");
   const Result r = shellfrac("run --out " + d.string() + " --threads 1");
