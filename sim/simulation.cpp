@@ -43,8 +43,13 @@ std::string format_seconds(double v) {
 
 Simulation::Simulation(const Scene& scene) : scene_(scene), grid_(1.0) {
   patches_.reserve(scene.shells.size());
-  for (const Shell& s : scene.shells) {
-    patches_.emplace_back(s.surface, shell_material(s), s.quadrature);
+  for (size_t i = 0; i < scene.shells.size(); ++i) {
+    const Shell& s = scene.shells[i];
+    try {
+      patches_.emplace_back(s.surface, shell_material(s), s.quadrature);
+    } catch (const std::invalid_argument& e) {  // e.g. a degenerate (collapsed) control net
+      throw SceneError(scene.source, "/shells/" + std::to_string(i) + "/patch", e.what());
+    }
     for (auto& v : patches_.back().v) v = s.initial_velocity;
     initial_positions_.push_back(patches_.back().x);
     transfer_mass_.push_back(patches_.back().mass);

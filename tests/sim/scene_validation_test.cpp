@@ -7,6 +7,7 @@
 
 #include "sim/scene.hpp"
 #include "sim/scene_error.hpp"
+#include "sim/simulation.hpp"
 
 namespace shellfrac::sim {
 namespace {
@@ -178,6 +179,20 @@ TEST(SceneParse, InvalidJsonReportsLineAndColumn) {
   } catch (const SceneError& e) {
     EXPECT_THAT(e.what(), HasSubstr("broken.json"));
     EXPECT_THAT(e.message(), HasSubstr("line 4, column 3"));
+  }
+}
+
+TEST(SceneParse, DegenerateControlNetIsBadInputWhenSimulated) {
+  // Valid NURBS, but every control point on one line: the shell has no tangent plane.
+  Json j = valid_scene();
+  j["shells"][1]["patch"]["control_points"] = Json::parse("[[0,0,0],[1,0,0],[2,0,0],[3,0,0],[4,0,0],[5,0,0]]");
+  const Scene s = parse_scene(j.dump(), "line.json");
+  try {
+    Simulation sim(s);
+    FAIL();
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.json_path(), "/shells/1/patch");
+    EXPECT_THAT(e.message(), HasSubstr("degenerate"));
   }
 }
 
