@@ -1,6 +1,7 @@
 #include "mpm/sparse_grid.hpp"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <stdexcept>
@@ -59,74 +60,78 @@ Vec3 SparseGrid::node_position(size_t node) const {
 
 long SparseGrid::node_index(int i, int j, int k) const {
   const int bx = floor_div4(i), by = floor_div4(j), bz = floor_div4(k);
-  const auto it = block_of_key_.find(pack(bx, by, bz));
-  if (it == block_of_key_.end()) return -1;
+  const int32_t b = find_block(pack(bx, by, bz));
+  if (b < 0) return -1;
   const int local = (i - bx * kBlock) + kBlock * ((j - by * kBlock) + kBlock * (k - bz * kBlock));
-  return static_cast<long>(it->second) * kBlockNodes + local;
+  return static_cast<long>(b) * kBlockNodes + local;
 }
 
 void SparseGrid::rebuild(const std::vector<ParticleSet>& sets) {
-  // 1. Block of every particle's base node.
-  size_t total = 0;
-  for (const auto& s : sets) total += s.count;
+  // 1. Block of every particle's base node (parallel; the first bad particle is reported, in order).
+  std::vector<size_t> first(sets.size() + 1, 0);
+  for (size_t si = 0; si < sets.size(); ++si) first[si + 1] = first[si] + sets[si].count;
+  const size_t total = first.back();
   std::vector<uint64_t> keys(total);
+  std::vector<unsigned char> bad(total, 0);
   entries_.resize(total);
-  size_t e = 0;
   for (uint32_t si = 0; si < sets.size(); ++si) {
     const ParticleSet& s = sets[si];
-    for (uint32_t p = 0; p < s.count; ++p, ++e) {
-      const Vec3& x = s.position[p];
-      if (!x.allFinite()) throw GridError("non-finite particle position", si, p);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, s.count, 1024), [&](const tbb::blocked_range<size_t>& r) {
       constexpr double kLimit = 4.0 * static_cast<double>(kKeyOffset - 2);  // nodes per axis half-range
-      int base[3];
-      for (int d = 0; d < 3; ++d) {
-        const double b = std::floor(x[d] * inv_dx_ - 0.5);
-        if (std::abs(b) > kLimit) throw GridError("particle position out of the grid's range", si, p);
-        base[d] = static_cast<int>(b);
+      for (size_t p = r.begin(); p != r.end(); ++p) {
+        const size_t e = first[si] + p;
+        entries_[e] = {si, static_cast<uint32_t>(p)};
+        const Vec3& x = s.position[p];
+        if (!x.allFinite()) {
+          bad[e] = 1;
+          continue;
+        }
+        int base[3];
+        for (int d = 0; d < 3; ++d) {
+          const double b = std::floor(x[d] * inv_dx_ - 0.5);
+          if (std::abs(b) > kLimit) bad[e] = 2;
+          base[d] = bad[e] ? 0 : static_cast<int>(b);
+        }
+        keys[e] = bad[e] ? 0 : pack(floor_div4(base[0]), floor_div4(base[1]), floor_div4(base[2]));
       }
-      keys[e] = pack(floor_div4(base[0]), floor_div4(base[1]), floor_div4(base[2]));
-      entries_[e] = {si, p};
-    }
+    });
   }
+  for (size_t e = 0; e < total; ++e)
+    if (bad[e])
+      throw GridError(bad[e] == 1 ? "non-finite particle position" : "particle position out of the grid's range",
+                      entries_[e].set, entries_[e].index);
 
-  // 2. Active blocks: particle blocks and their forward neighbours (stencils reach base + 2),
-  //    sorted by key so the block order is deterministic and spatially coherent.
+  // 2. Active blocks: particle blocks and their forward neighbours (stencils reach base + 2), as a
+  //    sorted key list: the block order is deterministic and spatially coherent, and a binary search
+  //    replaces a hash map.
   std::vector<uint64_t> occupied = keys;
-  std::sort(occupied.begin(), occupied.end());
+  tbb::parallel_sort(occupied.begin(), occupied.end());
   occupied.erase(std::unique(occupied.begin(), occupied.end()), occupied.end());
-  std::vector<uint64_t> active;
-  active.reserve(occupied.size() * 8);
+  active_keys_.clear();
+  active_keys_.reserve(occupied.size() * 8);
   for (uint64_t k : occupied) {
     const Eigen::Vector3i c = unpack(k);
-    for (int d = 0; d < 8; ++d) active.push_back(pack(c.x() + (d & 1), c.y() + ((d >> 1) & 1), c.z() + (d >> 2)));
+    for (int d = 0; d < 8; ++d) active_keys_.push_back(pack(c.x() + (d & 1), c.y() + ((d >> 1) & 1), c.z() + (d >> 2)));
   }
-  std::sort(active.begin(), active.end());
-  active.erase(std::unique(active.begin(), active.end()), active.end());
+  tbb::parallel_sort(active_keys_.begin(), active_keys_.end());
+  active_keys_.erase(std::unique(active_keys_.begin(), active_keys_.end()), active_keys_.end());
+  const size_t num_blocks = active_keys_.size();
 
-  block_of_key_.clear();
-  block_of_key_.reserve(active.size() * 2);
-  block_coords_.resize(active.size());
-  for (uint32_t b = 0; b < active.size(); ++b) {
-    block_of_key_.emplace(active[b], b);
-    block_coords_[b] = unpack(active[b]);
-  }
-  forward_neighbours_.resize(active.size());
-  for (uint32_t b = 0; b < active.size(); ++b) {
-    const BlockCoord& c = block_coords_[b];
-    for (int d = 0; d < 8; ++d) {
-      const auto it = block_of_key_.find(pack(c.x() + (d & 1), c.y() + ((d >> 1) & 1), c.z() + (d >> 2)));
-      forward_neighbours_[b][static_cast<size_t>(d)] = it == block_of_key_.end() ? -1 : static_cast<int32_t>(it->second);
-    }
-  }
+  block_coords_.resize(num_blocks);
+  forward_neighbours_.resize(num_blocks);
+  tbb::parallel_for(size_t{0}, num_blocks, [&](size_t b) {
+    const BlockCoord c = unpack(active_keys_[b]);
+    block_coords_[b] = c;
+    for (int d = 0; d < 8; ++d)
+      forward_neighbours_[b][static_cast<size_t>(d)] = find_block(pack(c.x() + (d & 1), c.y() + ((d >> 1) & 1), c.z() + (d >> 2)));
+  });
 
   // 3. Bin particles per block (stable counting sort keeps set/particle order inside a block).
   std::vector<uint32_t> block_of_entry(total);
-  bin_offsets_.assign(active.size() + 1, 0);
-  for (size_t i = 0; i < total; ++i) {
-    block_of_entry[i] = block_of_key_.find(keys[i])->second;
-    ++bin_offsets_[block_of_entry[i] + 1];
-  }
-  for (size_t b = 0; b < active.size(); ++b) bin_offsets_[b + 1] += bin_offsets_[b];
+  tbb::parallel_for(size_t{0}, total, [&](size_t i) { block_of_entry[i] = static_cast<uint32_t>(find_block(keys[i])); });
+  bin_offsets_.assign(num_blocks + 1, 0);
+  for (size_t i = 0; i < total; ++i) ++bin_offsets_[block_of_entry[i] + 1];
+  for (size_t b = 0; b < num_blocks; ++b) bin_offsets_[b + 1] += bin_offsets_[b];
   std::vector<Entry> sorted(total);
   std::vector<uint32_t> cursor(bin_offsets_.begin(), bin_offsets_.end() - 1);
   for (size_t i = 0; i < total; ++i) sorted[cursor[block_of_entry[i]]++] = entries_[i];
@@ -134,18 +139,31 @@ void SparseGrid::rebuild(const std::vector<ParticleSet>& sets) {
 
   // 4. Parity colours of the blocks that hold particles.
   colour_blocks_.assign(8, {});
-  for (uint32_t b = 0; b < active.size(); ++b) {
+  for (uint32_t b = 0; b < num_blocks; ++b) {
     if (bin_offsets_[b + 1] == bin_offsets_[b]) continue;
     const BlockCoord& c = block_coords_[b];
     colour_blocks_[static_cast<size_t>((c.x() & 1) | ((c.y() & 1) << 1) | ((c.z() & 1) << 2))].push_back(b);
   }
 
-  // 5. Zeroed node storage.
-  const size_t n = active.size() * kBlockNodes;
-  mass_.assign(n, 0.0);
-  momentum_.assign(n, Vec3::Zero());
-  force_.assign(n, Vec3::Zero());
-  velocity_.assign(n, Vec3::Zero());
+  // 5. Zeroed node storage (parallel: it is the largest memory traffic of the rebuild).
+  const size_t n = num_blocks * kBlockNodes;
+  mass_.resize(n);
+  momentum_.resize(n);
+  force_.resize(n);
+  velocity_.resize(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    std::fill(mass_.begin() + static_cast<long>(r.begin()), mass_.begin() + static_cast<long>(r.end()), 0.0);
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      momentum_[i].setZero();
+      force_[i].setZero();
+      velocity_[i].setZero();
+    }
+  });
+}
+
+int32_t SparseGrid::find_block(uint64_t key) const {
+  const auto it = std::lower_bound(active_keys_.begin(), active_keys_.end(), key);
+  return it != active_keys_.end() && *it == key ? static_cast<int32_t>(it - active_keys_.begin()) : -1;
 }
 
 template <class Fn>

@@ -3,7 +3,6 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "mpm/particle_set.hpp"
@@ -77,7 +76,10 @@ class SparseGrid {
   void for_blocks_coloured(Fn&& fn) const;
 
   double dx_, inv_dx_;
-  std::unordered_map<uint64_t, uint32_t> block_of_key_;
+  // Index of the block with this key, or -1 (binary search in the sorted active keys).
+  int32_t find_block(uint64_t key) const;
+
+  std::vector<uint64_t> active_keys_;  // sorted; block b has key active_keys_[b]
   std::vector<BlockCoord> block_coords_;
   std::vector<std::array<int32_t, 8>> forward_neighbours_;  // block + {0,1}^3, -1 if inactive
   std::vector<uint32_t> bin_offsets_;                        // CSR of particle entries per block
