@@ -34,7 +34,8 @@ std::string describe_scene(const Scene& scene) {
   int control_points = 0;
   for (const Shell& s : scene.shells) control_points += s.surface.num_u() * s.surface.num_v();
   os << "scene \"" << scene.name << "\": " << scene.shells.size() << " shell(s), " << control_points
-     << " control points, " << scene.colliders.size() << " collider(s), " << scene.pins.size() << " pin(s), end time "
+     << " control points, " << scene.solids.size() << " solid(s), " << scene.colliders.size() << " collider(s), "
+     << scene.pins.size() << " pin(s), end time "
      << scene.time.end << " s at " << scene.time.frame_rate << " frames/s, output " << scene.output.format << " at "
      << scene.output.resolution_u << " x " << scene.output.resolution_v << " quads per patch\n";
   for (const Shell& s : scene.shells)
@@ -43,7 +44,11 @@ std::string describe_scene(const Scene& scene) {
        << s.surface.knots_u().num_spans() << " x " << s.surface.knots_v().num_spans() << " cells)"
        << (s.surface.is_rational() ? ", rational" : "") << ", thickness " << s.thickness << " m, "
        << s.material.model << " E=" << s.material.youngs_modulus << " nu=" << s.material.poisson_ratio
-       << " rho=" << s.material.density << "\n";
+       << " rho=" << s.material.density << (s.material.plasticity.enabled ? ", plastic" : "") << "\n";
+  for (const SolidBody& b : scene.solids)
+    os << "  " << b.name << ": " << b.shape << " solid, particle spacing " << b.spacing << " m ("
+       << (b.poisson_disk ? "Poisson disk" : "jittered grid") << "), E=" << b.material.youngs_modulus
+       << " nu=" << b.material.poisson_ratio << " rho=" << b.material.density << "\n";
   return os.str();
 }
 
