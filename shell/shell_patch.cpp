@@ -11,6 +11,7 @@ namespace shellfrac::shell {
 
 namespace {
 constexpr int kBasisStride = 6;  // R, R_1, R_2, R_11, R_12, R_22 per support control point
+constexpr int kShearStride = 3;  // R, R_1, R_2 per support control point of a shear particle
 constexpr int kMaxSupport = 64;  // (p+1)(q+1) for degrees up to 7
 }  // namespace
 
@@ -121,23 +122,22 @@ void ShellPatch::build_force_gather() {
 }
 
 void ShellPatch::build_shear_particles() {
-  constexpr int kStride = 3;  // R, R_1, R_2
   const size_t L = layers_.xi3.size();
   nurbs::SurfaceBasis basis;
-  shear.basis.assign(num_cells_ * static_cast<size_t>(support_size_ * kStride), 0.0);
+  shear.basis.assign(num_cells_ * static_cast<size_t>(support_size_ * kShearStride), 0.0);
   for (size_t c = 0; c < num_cells_; ++c) {
     const Vec2& uv = cell_center_[c];
     reference_.rational_basis(uv.x(), uv.y(), basis);
     const int* sup = support(c);
-    double* out = &shear.basis[c * static_cast<size_t>(support_size_ * kStride)];
+    double* out = &shear.basis[c * static_cast<size_t>(support_size_ * kShearStride)];
     Vec3 pos = Vec3::Zero(), A1 = Vec3::Zero(), A2 = Vec3::Zero();
     for (int k = 0; k < basis.count; ++k) {
       const int idx = basis.index[static_cast<size_t>(k)];
       int local = 0;
       while (sup[local] != idx) ++local;  // the cell's support holds every non-zero function
-      out[local * kStride + 0] = basis.R[static_cast<size_t>(k)];
-      out[local * kStride + 1] = basis.Ru[static_cast<size_t>(k)];
-      out[local * kStride + 2] = basis.Rv[static_cast<size_t>(k)];
+      out[local * kShearStride + 0] = basis.R[static_cast<size_t>(k)];
+      out[local * kShearStride + 1] = basis.Ru[static_cast<size_t>(k)];
+      out[local * kShearStride + 2] = basis.Rv[static_cast<size_t>(k)];
       const Vec3& X = x[static_cast<size_t>(idx)];
       pos += basis.R[static_cast<size_t>(k)] * X;
       A1 += basis.Ru[static_cast<size_t>(k)] * X;
@@ -164,20 +164,26 @@ void ShellPatch::build_shear_particles() {
   }
 }
 
+Vec3 ShellPatch::shear_particle_frame(size_t c, Vec3& a1, Vec3& a2) const {
+  const int* sup = support(c);
+  const double* b = &shear.basis[c * static_cast<size_t>(support_size_ * kShearStride)];
+  Vec3 pos = Vec3::Zero();
+  a1.setZero();
+  a2.setZero();
+  for (int s = 0; s < support_size_; ++s) {
+    const Vec3& X = x[static_cast<size_t>(sup[s])];
+    pos += b[s * kShearStride] * X;
+    a1 += b[s * kShearStride + 1] * X;
+    a2 += b[s * kShearStride + 2] * X;
+  }
+  return pos;
+}
+
 void ShellPatch::update_shear_particles(double dt) {
-  constexpr int kStride = 3;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, num_cells_, 64), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t c = r.begin(); c != r.end(); ++c) {
-      const int* sup = support(c);
-      const double* b = &shear.basis[c * static_cast<size_t>(support_size_ * kStride)];
-      Vec3 pos = Vec3::Zero(), a1 = Vec3::Zero(), a2 = Vec3::Zero();
-      for (int s = 0; s < support_size_; ++s) {
-        const Vec3& X = x[static_cast<size_t>(sup[s])];
-        pos += b[s * kStride] * X;
-        a1 += b[s * kStride + 1] * X;
-        a2 += b[s * kStride + 2] * X;
-      }
-      shear.x[c] = pos;  // thesis Eq. 4.10
+      Vec3 a1, a2;
+      shear.x[c] = shear_particle_frame(c, a1, a2);  // thesis Eq. 4.10
       const Vec3 d3 = shear.director[c] + dt * (shear.velocity_gradient[c] * shear.director[c]);
       Mat3 d;
       d << a1, a2, d3;
@@ -238,7 +244,7 @@ ForceFailure ShellPatch::compute_forces() {
           out[s] -= ds[1] * gr.a1 + ds[2] * gr.a2 + ds[3] * gr.a11 + ds[4] * gr.a12 + ds[5] * gr.a22;
         }
       }
-      if (!cell_failed[c] && !add_shear_force(c, pts, out)) cell_failed[c] = 2;
+      if (!cell_failed[c] && !add_shear_force(c, out)) cell_failed[c] = 2;
     }
   });
 
@@ -263,14 +269,10 @@ ForceFailure ShellPatch::compute_forces() {
   return failure;
 }
 
-bool ShellPatch::add_shear_force(size_t c, const Vec3* const* pts, Vec3* out) {
-  constexpr int kStride = 3;
-  const double* b = &shear.basis[c * static_cast<size_t>(support_size_ * kStride)];
-  Vec3 a1 = Vec3::Zero(), a2 = Vec3::Zero();
-  for (int s = 0; s < support_size_; ++s) {
-    a1 += b[s * kStride + 1] * *pts[s];
-    a2 += b[s * kStride + 2] * *pts[s];
-  }
+bool ShellPatch::add_shear_force(size_t c, Vec3* out) {
+  const double* b = &shear.basis[c * static_cast<size_t>(support_size_ * kShearStride)];
+  Vec3 a1, a2;
+  shear_particle_frame(c, a1, a2);
   const Vec3& d3 = shear.director[c];
   Mat3 d;
   d << a1, a2, d3;
@@ -280,7 +282,8 @@ bool ShellPatch::add_shear_force(size_t c, const Vec3* const* pts, Vec3* out) {
   // dPsi/dd = V P D^-T: columns 1, 2 act on the tangents (control points), column 3 on the director
   // (through the grid velocity gradient that advects it).
   const Mat3 G = shear.volume[c] * shear_pk1(F, material_.shear) * Dinv.transpose();
-  for (int s = 0; s < support_size_; ++s) out[s] -= b[s * kStride + 1] * G.col(0) + b[s * kStride + 2] * G.col(1);
+  for (int s = 0; s < support_size_; ++s)
+    out[s] -= b[s * kShearStride + 1] * G.col(0) + b[s * kShearStride + 2] * G.col(1);
   shear.stress[c] = G.col(2) * d3.transpose();
   return true;
 }
@@ -320,13 +323,8 @@ double ShellPatch::elastic_energy() const {
   for (double v : per_point) e += v;
   // Type III shear/compression energy at the current directors.
   for (size_t c = 0; c < num_cells_; ++c) {
-    const int* sup = support(c);
-    const double* b = &shear.basis[c * static_cast<size_t>(support_size_ * 3)];
-    Vec3 a1 = Vec3::Zero(), a2 = Vec3::Zero();
-    for (int s = 0; s < support_size_; ++s) {
-      a1 += b[s * 3 + 1] * x[static_cast<size_t>(sup[s])];
-      a2 += b[s * 3 + 2] * x[static_cast<size_t>(sup[s])];
-    }
+    Vec3 a1, a2;
+    shear_particle_frame(c, a1, a2);
     Mat3 d;
     d << a1, a2, shear.director[c];
     Mat3 Q, R;

@@ -112,7 +112,9 @@ class ShellPatch {
   void build_force_gather();
   void build_shear_particles();
   // Type III force of cell c on its support control points (added to out) and its grid stress term.
-  bool add_shear_force(size_t c, const Vec3* const* pts, Vec3* out);
+  bool add_shear_force(size_t c, Vec3* out);
+  // Position of shear particle c (thesis Eq. 4.10) and the surface tangents a_1, a_2 there.
+  Vec3 shear_particle_frame(size_t c, Vec3& a1, Vec3& a2) const;
 
   nurbs::NurbsSurface reference_;
   ShellMaterial material_;
