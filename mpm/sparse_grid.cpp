@@ -52,6 +52,7 @@ uint64_t SparseGrid::pack(int bx, int by, int bz) {
 }
 
 Vec3 SparseGrid::node_position(size_t node) const {
+  node = parent_node(node);
   const size_t b = node / kBlockNodes;
   const int l = static_cast<int>(node % kBlockNodes);
   const BlockCoord& c = block_coords_[b];
@@ -145,8 +146,14 @@ void SparseGrid::rebuild(const std::vector<ParticleSet>& sets) {
     colour_blocks_[static_cast<size_t>((c.x() & 1) | ((c.y() & 1) << 1) | ((c.z() & 1) << 2))].push_back(b);
   }
 
-  // 5. Zeroed node storage (parallel: it is the largest memory traffic of the rebuild).
+  // 5. Zeroed node storage (parallel: it is the largest memory traffic of the rebuild), no phantoms yet.
   const size_t n = num_blocks * kBlockNodes;
+  grid_nodes_ = n;
+  copy_parent_.clear();
+  copy_mass_position_.clear();
+  copy_mass_gradient_.clear();
+  phantom_row_.clear();
+  phantom_stencil_.clear();
   mass_.resize(n);
   momentum_.resize(n);
   force_.resize(n);
@@ -159,6 +166,35 @@ void SparseGrid::rebuild(const std::vector<ParticleSet>& sets) {
       velocity_[i].setZero();
     }
   });
+}
+
+std::array<uint32_t, 27> SparseGrid::stencil_nodes(const Vec3& x) const {
+  const StencilWeights sw = stencil_weights(x, inv_dx_);
+  const int32_t b = find_block(pack(floor_div4(sw.ax[0].base), floor_div4(sw.ax[1].base), floor_div4(sw.ax[2].base)));
+  if (b < 0) throw std::logic_error("stencil_nodes: position outside the active grid (rebuild first)");
+  std::array<uint32_t, 27> nodes{};
+  for_stencil(static_cast<uint32_t>(b), sw,
+              [&](size_t node, int i, int j, int k) { nodes[static_cast<size_t>(i + 3 * j + 9 * k)] = static_cast<uint32_t>(node); });
+  return nodes;
+}
+
+void SparseGrid::set_phantom_copies(const PhantomLayout& layout) {
+  const size_t copies = layout.copy_parent.size();
+  copy_parent_ = layout.copy_parent;
+  copy_mass_position_.assign(copies, Vec3::Zero());
+  copy_mass_gradient_.assign(copies, Vec3::Zero());
+  mass_.resize(grid_nodes_ + copies, 0.0);
+  momentum_.resize(grid_nodes_ + copies, Vec3::Zero());
+  force_.resize(grid_nodes_ + copies, Vec3::Zero());
+  velocity_.resize(grid_nodes_ + copies, Vec3::Zero());
+  phantom_row_ = layout.particle_row;
+  phantom_stencil_.resize(layout.stencil_copy.size());
+  // Rows name copies by number; store final node indices (a grid node for -1, else grid_nodes_ + copy).
+  for (size_t r = 0; r < layout.stencil_copy.size() / 27; ++r)
+    for (size_t k = 0; k < 27; ++k) {
+      const int32_t c = layout.stencil_copy[r * 27 + k];
+      phantom_stencil_[r * 27 + k] = c < 0 ? layout.stencil_node[r * 27 + k] : static_cast<uint32_t>(grid_nodes_ + static_cast<size_t>(c));
+    }
 }
 
 int32_t SparseGrid::find_block(uint64_t key) const {
@@ -205,9 +241,15 @@ void SparseGrid::transfer_mass_momentum(const std::vector<ParticleSet>& sets) {
       const Vec3 mv = mp * s.velocity[p];
       const StencilWeights sw = stencil_weights(xp, inv_dx_);
       const Mat3* C = s.affine ? &s.affine[p] : nullptr;
-      for_stencil(b, sw, [&](size_t node, int i, int j, int k) {
+      const uint32_t si = entries_[e].set;
+      for_stencil(b, sw, [&](size_t grid_node, int i, int j, int k) {
+        const size_t node = target(si, p, grid_node, i, j, k);
         const double w = sw.weight(i, j, k);
         mass_[node] += w * mp;
+        if (node >= grid_nodes_) {  // phantom copy: data for its contact normal (thesis Eq. 4.22)
+          copy_mass_position_[node - grid_nodes_] += (w * mp) * xp;
+          copy_mass_gradient_[node - grid_nodes_] += mp * sw.gradient(i, j, k);
+        }
         if (C) {
           const Vec3 xi(sw.ax[0].base + i, sw.ax[1].base + j, sw.ax[2].base + k);
           momentum_[node] += w * (mv + mp * (*C) * (xi * dx_ - xp));
@@ -228,7 +270,9 @@ void SparseGrid::transfer_forces(const std::vector<ParticleSet>& sets) {
       const uint32_t p = entries_[e].index;
       const StencilWeights sw = stencil_weights(s.position[p], inv_dx_);
       const Vec3& xp = s.position[p];
-      for_stencil(b, sw, [&](size_t node, int i, int j, int k) {
+      const uint32_t si = entries_[e].set;
+      for_stencil(b, sw, [&](size_t grid_node, int i, int j, int k) {
+        const size_t node = target(si, p, grid_node, i, j, k);
         if (s.force) force_[node] += sw.weight(i, j, k) * s.force[p];
         if (!s.stress) return;
         if (s.mls_force) {
@@ -265,8 +309,9 @@ void SparseGrid::transfer_to_particles(const std::vector<ParticleSet>& sets) con
         const StencilWeights sw = stencil_weights(xp, inv_dx_);
         Vec3 v = Vec3::Zero();
         Mat3 C = Mat3::Zero(), grad = Mat3::Zero();
-        for_stencil(static_cast<uint32_t>(b), sw, [&](size_t node, int i, int j, int k) {
-          const Vec3& vi = velocity_[node];
+        const uint32_t si = entries_[e].set;
+        for_stencil(static_cast<uint32_t>(b), sw, [&](size_t grid_node, int i, int j, int k) {
+          const Vec3& vi = velocity_[target(si, p, grid_node, i, j, k)];
           const double w = sw.weight(i, j, k);
           v += w * vi;
           if (s.affine) {

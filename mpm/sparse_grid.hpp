@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "mpm/particle_set.hpp"
+#include "mpm/phantom_nodes.hpp"
 
 namespace shellfrac::mpm {
 
@@ -48,7 +49,23 @@ class SparseGrid {
   // Grid to particle: PIC velocity (Eq. 2.20), APIC affine (Eq. 2.25) and velocity gradient if asked.
   void transfer_to_particles(const std::vector<ParticleSet>& sets) const;
 
-  // Node storage, index = block * 64 + local. Nodes without mass have zero velocity.
+  // Phantom copies (thesis sec. 4.7.1): after rebuild(), before the transfers. Copies are appended to the
+  // node storage (indices >= num_grid_nodes()), so velocity updates and colliders treat them like nodes;
+  // the transfers send a particle's contribution to the copy its stencil row names. See phantom_nodes.hpp.
+  void set_phantom_copies(const PhantomLayout& layout);
+  size_t num_grid_nodes() const { return grid_nodes_; }
+  size_t num_phantom_copies() const { return mass_.size() - grid_nodes_; }
+  // The grid node a copy belongs to; the node itself for ordinary nodes.
+  size_t parent_node(size_t node) const { return node < grid_nodes_ ? node : copy_parent_[node - grid_nodes_]; }
+  // Per copy: sum of w m x (centre of mass times mass) and sum of m grad w (mass gradient), for the
+  // contact normals of thesis Eq. 4.22.
+  const Vec3& copy_mass_position(size_t copy) const { return copy_mass_position_[copy]; }
+  const Vec3& copy_mass_gradient(size_t copy) const { return copy_mass_gradient_[copy]; }
+  Vec3& node_momentum_mut(size_t node) { return momentum_[node]; }
+  // Node indices of the 27 stencil nodes of a particle at x, in the order i + 3 j + 9 k (after rebuild).
+  std::array<uint32_t, 27> stencil_nodes(const Vec3& x) const;
+
+  // Node storage, index = block * 64 + local, then the phantom copies. Nodes without mass have zero velocity.
   size_t num_nodes() const { return mass_.size(); }
   size_t num_blocks() const { return block_coords_.size(); }
   Vec3 node_position(size_t node) const;
@@ -87,6 +104,18 @@ class SparseGrid {
   std::vector<std::vector<uint32_t>> colour_blocks_;
   std::vector<double> mass_;
   std::vector<Vec3> momentum_, force_, velocity_;
+  // Phantom copies and the per-particle stencil redirections (empty rows = no redirection).
+  size_t grid_nodes_ = 0;
+  std::vector<uint32_t> copy_parent_;
+  std::vector<Vec3> copy_mass_position_, copy_mass_gradient_;
+  std::vector<std::vector<int32_t>> phantom_row_;  // [set][particle] -> row, or -1
+  std::vector<uint32_t> phantom_stencil_;          // rows x 27 target node indices
+  // Target node of stencil entry (i, j, k) of particle p of set s.
+  size_t target(uint32_t set, uint32_t p, size_t node, int i, int j, int k) const {
+    if (set >= phantom_row_.size() || phantom_row_[set].empty()) return node;
+    const int32_t row = phantom_row_[set][p];
+    return row < 0 ? node : phantom_stencil_[static_cast<size_t>(row) * 27 + static_cast<size_t>(i + 3 * j + 9 * k)];
+  }
 };
 
 }  // namespace shellfrac::mpm

@@ -13,6 +13,9 @@ packages=(
   libopenvdb-dev libboost-iostreams-dev  # level sets of imported meshes (solids, mesh colliders)
   libgtest-dev libgmock-dev  # tests
   libbenchmark-dev       # micro-benchmarks
+  libboost-dev           # Boost.Polygon Voronoi diagrams (crack2d)
+  libceres-dev           # independent least-squares cross-check of the MLS fit (tests)
+  gnuplot-nox            # benchmark charts
 )
 
 missing=()

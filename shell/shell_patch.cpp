@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <array>
 #include <limits>
 #include <cmath>
@@ -10,8 +11,6 @@
 namespace shellfrac::shell {
 
 namespace {
-constexpr int kBasisStride = 6;  // R, R_1, R_2, R_11, R_12, R_22 per support control point
-constexpr int kShearStride = 3;  // R, R_1, R_2 per support control point of a shear particle
 constexpr int kMaxSupport = 64;  // (p+1)(q+1) for degrees up to 7
 }  // namespace
 
@@ -30,6 +29,17 @@ ShellPatch::ShellPatch(const nurbs::NurbsSurface& reference, const ShellMaterial
   build_force_gather();
   build_shear_particles();
   if (material_.plasticity.enabled) plastic_strain_.assign(ref_.size(), 0.0);
+  control_grid_ = ControlGrid::from_surface(reference_);
+  point_slot_.assign(param_.size(), -1);
+  shear_slot_.assign(num_cells_, -1);
+  control_near_crack_.assign(x.size(), 0);
+  shear_near_crack_.assign(num_cells_, 0);
+  mls_gather_offsets_.assign(x.size() + 1, 0);
+  if (material_.fracture.enabled) {
+    damage_.assign(ref_.size(), 0.0);
+    damage_history_.assign(ref_.size(), 0.0);
+    failure_stress_.assign(param_.size(), material_.fracture.failure_stress);
+  }
 }
 
 nurbs::NurbsSurface ShellPatch::current_surface() const {
@@ -164,17 +174,29 @@ void ShellPatch::build_shear_particles() {
   }
 }
 
+ShellPatch::BasisView ShellPatch::shear_basis(size_t c) const {
+  const int32_t slot = shear_slot_[c];
+  if (slot >= 0) {
+    const MlsSupport& m = slots_[static_cast<size_t>(slot)];
+    return {static_cast<int>(m.index.size()), m.index.data(), m.basis.data(), kBasisStride,
+            const_cast<Vec3*>(m.force.data())};
+  }
+  return {support_size_, support(c), &shear.basis[c * static_cast<size_t>(support_size_ * kShearStride)], kShearStride,
+          const_cast<Vec3*>(&cell_force_[c * static_cast<size_t>(support_size_)])};
+}
+
 Vec3 ShellPatch::shear_particle_frame(size_t c, Vec3& a1, Vec3& a2) const {
-  const int* sup = support(c);
-  const double* b = &shear.basis[c * static_cast<size_t>(support_size_ * kShearStride)];
+  // thesis Eq. 4.10 with the NURBS basis, or the MLS basis near a crack (sec. 4.6)
+  const BasisView b = shear_basis(c);
   Vec3 pos = Vec3::Zero();
   a1.setZero();
   a2.setZero();
-  for (int s = 0; s < support_size_; ++s) {
-    const Vec3& X = x[static_cast<size_t>(sup[s])];
-    pos += b[s * kShearStride] * X;
-    a1 += b[s * kShearStride + 1] * X;
-    a2 += b[s * kShearStride + 2] * X;
+  for (int s = 0; s < b.n; ++s) {
+    const Vec3& X = x[static_cast<size_t>(b.index[s])];
+    const double* d = b.basis + s * b.stride;
+    pos += d[0] * X;
+    a1 += d[1] * X;
+    a2 += d[2] * X;
   }
   return pos;
 }
@@ -192,23 +214,40 @@ void ShellPatch::update_shear_particles(double dt) {
   });
 }
 
+ShellPatch::BasisView ShellPatch::point_basis(size_t q) const {
+  const int32_t slot = point_slot_[q];
+  if (slot >= 0) {
+    const MlsSupport& m = slots_[static_cast<size_t>(slot)];
+    return {static_cast<int>(m.index.size()), m.index.data(), m.basis.data(), kBasisStride,
+            const_cast<Vec3*>(m.force.data())};
+  }
+  const size_t c = cell_of(q);
+  return {support_size_, support(c), &basis_[q * static_cast<size_t>(support_size_) * kBasisStride], kBasisStride,
+          const_cast<Vec3*>(&cell_force_[c * static_cast<size_t>(support_size_)])};
+}
+
 ForceFailure ShellPatch::compute_forces() {
   const size_t L = layers_.xi3.size();
   const double mu = material_.mu, lambda = material_.lambda;
   const TransverseModel model = material_.transverse;
   const bool plastic = material_.plasticity.enabled;
+  const bool fracturing = !damage_.empty();
+  const bool monotone = material_.fracture.rule == DamageRule::Monotone;
   std::vector<unsigned char> cell_failed(num_cells_, 0);
+  for (MlsSupport& m : slots_)
+    for (Vec3& f : m.force) f.setZero();
 
   tbb::parallel_for(tbb::blocked_range<size_t>(0, num_cells_, 16), [&](const tbb::blocked_range<size_t>& r) {
-    const Vec3* pts[kMaxSupport];
+    std::vector<const Vec3*> pts;
     for (size_t c = r.begin(); c != r.end(); ++c) {
-      const int* sup = support(c);
-      for (int s = 0; s < support_size_; ++s) pts[s] = &x[static_cast<size_t>(sup[s])];
-      Vec3* out = &cell_force_[c * static_cast<size_t>(support_size_)];
-      for (int s = 0; s < support_size_; ++s) out[s].setZero();
+      Vec3* cell_out = &cell_force_[c * static_cast<size_t>(support_size_)];
+      for (int s = 0; s < support_size_; ++s) cell_out[s].setZero();
       for (size_t q = c * points_per_cell_; q < (c + 1) * points_per_cell_; ++q) {
-        const double* d = &basis_[q * static_cast<size_t>(support_size_) * kBasisStride];
-        const SurfaceJet jet = surface_jet(pts, d + 1, support_size_, kBasisStride);
+        if (point_slot_[q] == kMlsFailed) continue;  // singular MLS support: dropped and reported
+        const BasisView b = point_basis(q);
+        pts.resize(static_cast<size_t>(b.n));
+        for (int s = 0; s < b.n; ++s) pts[static_cast<size_t>(s)] = &x[static_cast<size_t>(b.index[s])];
+        const SurfaceJet jet = surface_jet(pts.data(), b.basis + 1, b.n, kBasisStride);
         NormalJet nj;
         if (!normal_jet(jet, nj)) {
           cell_failed[c] = 1;
@@ -228,10 +267,12 @@ ForceFailure ShellPatch::compute_forces() {
             cell_failed[c] = 1;
             break;
           }
+          InPlaneTensor tau{st.t11, st.t12, st.t22};
+          if (fracturing) tau = damaged_stress(tau, g1, g2, st.J * st.lambda3, q, q * L + l, monotone);
           // dPsi/dg_alpha = V tau^{alpha beta} g_beta (P~ : dF = tau^{ab} g_b . dg_a)
           const double V = volume_[q * L + l];
-          const Vec3 k1 = V * (st.t11 * g1 + st.t12 * g2);
-          const Vec3 k2 = V * (st.t12 * g1 + st.t22 * g2);
+          const Vec3 k1 = V * (tau.t11 * g1 + tau.t12 * g2);
+          const Vec3 k2 = V * (tau.t12 * g1 + tau.t22 * g2);
           K1 += k1;
           K2 += k2;
           C1 += xi3 * k1;
@@ -239,12 +280,12 @@ ForceFailure ShellPatch::compute_forces() {
         }
         if (cell_failed[c]) break;
         const JetGradient gr = kl_basis_adjoint(jet, nj, K1, K2, C1, C2, Vec3::Zero());
-        for (int s = 0; s < support_size_; ++s) {
-          const double* ds = d + s * kBasisStride;
-          out[s] -= ds[1] * gr.a1 + ds[2] * gr.a2 + ds[3] * gr.a11 + ds[4] * gr.a12 + ds[5] * gr.a22;
+        for (int s = 0; s < b.n; ++s) {
+          const double* ds = b.basis + s * kBasisStride;
+          b.force[s] -= ds[1] * gr.a1 + ds[2] * gr.a2 + ds[3] * gr.a11 + ds[4] * gr.a12 + ds[5] * gr.a22;
         }
       }
-      if (!cell_failed[c] && !add_shear_force(c, out)) cell_failed[c] = 2;
+      if (!cell_failed[c] && !add_shear_force(c)) cell_failed[c] = 2;
     }
   });
 
@@ -259,18 +300,23 @@ ForceFailure ShellPatch::compute_forces() {
                          : "degenerate or collapsed shell element (area ratio <= 0) in cell " + std::to_string(c);
     return failure;
   }
+  // Deterministic gather: the cell contributions, then the MLS contributions, in a fixed order.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, x.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       Vec3 f = Vec3::Zero();
       for (int k = gather_offsets_[i]; k < gather_offsets_[i + 1]; ++k) f += cell_force_[static_cast<size_t>(gather_[static_cast<size_t>(k)])];
+      for (int k = mls_gather_offsets_[i]; k < mls_gather_offsets_[i + 1]; ++k) {
+        const auto& e = mls_gather_[static_cast<size_t>(k)];
+        f += slots_[static_cast<size_t>(e.first)].force[static_cast<size_t>(e.second)];
+      }
       force[i] = f;
     }
   });
   return failure;
 }
 
-bool ShellPatch::add_shear_force(size_t c, Vec3* out) {
-  const double* b = &shear.basis[c * static_cast<size_t>(support_size_ * kShearStride)];
+bool ShellPatch::add_shear_force(size_t c) {
+  const BasisView b = shear_basis(c);
   Vec3 a1, a2;
   shear_particle_frame(c, a1, a2);
   const Vec3& d3 = shear.director[c];
@@ -282,10 +328,40 @@ bool ShellPatch::add_shear_force(size_t c, Vec3* out) {
   // dPsi/dd = V P D^-T: columns 1, 2 act on the tangents (control points), column 3 on the director
   // (through the grid velocity gradient that advects it).
   const Mat3 G = shear.volume[c] * shear_pk1(F, material_.shear) * Dinv.transpose();
-  for (int s = 0; s < support_size_; ++s)
-    out[s] -= b[s * kShearStride + 1] * G.col(0) + b[s * kShearStride + 2] * G.col(1);
+  for (int s = 0; s < b.n; ++s) b.force[s] -= b.basis[s * b.stride + 1] * G.col(0) + b.basis[s * b.stride + 2] * G.col(1);
   shear.stress[c] = G.col(2) * d3.transpose();
   return true;
+}
+
+double ShellPatch::parameter_spacing() const {
+  return std::min(control_grid_.cell_u, control_grid_.cell_v) / std::sqrt(static_cast<double>(points_per_cell_));
+}
+
+InPlaneTensor ShellPatch::damaged_stress(const InPlaneTensor& tau, const Vec3& g1, const Vec3& g2, double detF,
+                                        size_t q, size_t ql, bool monotone) {
+  // Effective stress: the largest principal in-plane Cauchy stress of the undamaged trial state
+  // (thesis sec. 4.4.1; the transverse principal value is 0, so it is at least 0).
+  const double effective = std::max(0.0, largest_principal(tau, g1, g2)) / detF;
+  double c = rankine_damage(effective, failure_stress_[q], material_.brittleness);  // thesis Eq. 2.28
+  if (monotone) c = std::max(c, damage_[ql]);  // conventional rule, kept for comparison
+  damage_[ql] = c;                              // healing rule: c^{n+1} = cbar
+  damage_history_[ql] = std::max(damage_history_[ql], c);
+  return c > 0 ? weaken_tensile_part(tau, g1, g2, c) : tau;  // thesis Eq. 2.29-2.31
+}
+
+std::vector<unsigned char> ShellPatch::fully_damaged_points() const {
+  const size_t L = layers_.xi3.size();
+  std::vector<unsigned char> out(param_.size(), 0);
+  for (size_t q = 0; q < param_.size() && !damage_history_.empty(); ++q)
+    for (size_t l = 0; l < L; ++l)
+      if (damage_history_[q * L + l] >= 1.0) out[q] = 1;
+  return out;
+}
+
+double ShellPatch::max_damage() const {
+  double m = 0;
+  for (double c : damage_) m = std::max(m, c);
+  return m;
 }
 
 double ShellPatch::max_plastic_strain() const {
@@ -297,25 +373,24 @@ double ShellPatch::max_plastic_strain() const {
 double ShellPatch::elastic_energy() const {
   const size_t L = layers_.xi3.size();
   std::vector<double> per_point(param_.size(), 0.0);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, num_cells_, 16), [&](const tbb::blocked_range<size_t>& r) {
-    const Vec3* pts[kMaxSupport];
-    for (size_t c = r.begin(); c != r.end(); ++c) {
-      const int* sup = support(c);
-      for (int s = 0; s < support_size_; ++s) pts[s] = &x[static_cast<size_t>(sup[s])];
-      for (size_t q = c * points_per_cell_; q < (c + 1) * points_per_cell_; ++q) {
-        const double* d = &basis_[q * static_cast<size_t>(support_size_) * kBasisStride];
-        const SurfaceJet jet = surface_jet(pts, d + 1, support_size_, kBasisStride);
-        NormalJet nj;
-        if (!normal_jet(jet, nj)) {
-          per_point[q] = std::numeric_limits<double>::quiet_NaN();
-          continue;
-        }
-        for (size_t l = 0; l < L; ++l) {
-          const double xi3 = layers_.xi3[l];
-          per_point[q] += volume_[q * L + l] *
-                          neo_hookean_in_plane_energy(jet.a1 + xi3 * nj.dn1, jet.a2 + xi3 * nj.dn2, ref_[q * L + l],
-                                                      material_.mu, material_.lambda, material_.transverse);
-        }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, param_.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+    std::vector<const Vec3*> pts;
+    for (size_t q = r.begin(); q != r.end(); ++q) {
+      if (point_slot_[q] == kMlsFailed) continue;
+      const BasisView b = point_basis(q);
+      pts.resize(static_cast<size_t>(b.n));
+      for (int s = 0; s < b.n; ++s) pts[static_cast<size_t>(s)] = &x[static_cast<size_t>(b.index[s])];
+      const SurfaceJet jet = surface_jet(pts.data(), b.basis + 1, b.n, kBasisStride);
+      NormalJet nj;
+      if (!normal_jet(jet, nj)) {
+        per_point[q] = std::numeric_limits<double>::quiet_NaN();
+        continue;
+      }
+      for (size_t l = 0; l < L; ++l) {
+        const double xi3 = layers_.xi3[l];
+        per_point[q] += volume_[q * L + l] *
+                        neo_hookean_in_plane_energy(jet.a1 + xi3 * nj.dn1, jet.a2 + xi3 * nj.dn2, ref_[q * L + l],
+                                                    material_.mu, material_.lambda, material_.transverse);
       }
     }
   });

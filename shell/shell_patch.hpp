@@ -3,9 +3,12 @@
 #include <string>
 #include <vector>
 
+#include "crack2d/crack_index.hpp"
 #include "nurbs/nurbs_surface.hpp"
+#include "shell/damage.hpp"
 #include "shell/in_plane_stress.hpp"
 #include "shell/kinematics.hpp"
+#include "shell/mls_basis.hpp"
 #include "shell/plasticity.hpp"
 #include "shell/quadrature.hpp"
 #include "shell/shear_model.hpp"
@@ -22,6 +25,8 @@ struct ShellMaterial {
   TransverseModel transverse = TransverseModel::Condensed;
   ShearParams shear;          // Type-III shearing/compression model
   PlasticityParams plasticity;  // Type-IV von Mises plasticity (metal sheets)
+  FractureParams fracture;      // Type-IV Rankine damage (thesis sec. 4.4.1)
+  double brittleness = 0;       // H of thesis Eq. 2.28, from sigma_f, G_f, E and l_ch (set_brittleness)
 };
 
 // Share of a cell's mass carried by its Type-III particle; the control points carry the rest. Type III
@@ -42,6 +47,15 @@ struct ShearParticles {
   std::vector<Mat3> velocity_gradient; // grid velocity gradient at x, written by g2p
   std::vector<double> volume;          // cell area x thickness
   std::vector<double> basis;           // per particle: support x {R, R_1, R_2}
+};
+
+// What one crack update changed (thesis sec. 4.6: bases are rebuilt only where new segments touch).
+struct CrackUpdate {
+  size_t examined = 0;     // points whose support new crack segments touch
+  size_t mls_points = 0;   // in-plane points with an MLS basis after the update
+  size_t mls_shear = 0;    // shear particles with an MLS basis after the update
+  size_t failures = 0;     // points whose MLS moment matrix stayed singular at the largest support
+  std::string first_failure;
 };
 
 // Where a force evaluation failed: an inverted or degenerate quadrature point.
@@ -99,6 +113,46 @@ class ShellPatch {
   // Reference volume of the shell (sum of V_q), equal to thickness x area up to quadrature error.
   double reference_volume() const;
 
+  // Fracture state of the Type IV points (thesis sec. 4.4.1), present only when material.fracture is on.
+  bool fractures() const { return !damage_.empty(); }
+  // Failure stress sigma_f of in-plane point q (all layers); scene regions override the material value.
+  double failure_stress(size_t q) const { return failure_stress_[q]; }
+  void set_failure_stress(size_t q, double sigma_f) { failure_stress_[q] = sigma_f; }
+  // Brittleness H of thesis Eq. 2.28; it depends on the grid's characteristic length, known to the caller.
+  void set_brittleness(double h) { material_.brittleness = h; }
+  // Parameter coordinates of all in-plane points (the crack extraction's samples).
+  const std::vector<Vec2>& inplane_parameters() const { return param_; }
+  // Typical spacing of the in-plane points in parameter space.
+  double parameter_spacing() const;
+  // Damage c and its history c_his of layer point (q, layer).
+  double damage(size_t q, int layer) const { return damage_[q * layers_.xi3.size() + static_cast<size_t>(layer)]; }
+  double damage_history(size_t q, int layer) const {
+    return damage_history_[q * layers_.xi3.size() + static_cast<size_t>(layer)];
+  }
+  // Per in-plane point: 1 when the damage history of any layer reached 1 (the crack extraction's input).
+  std::vector<unsigned char> fully_damaged_points() const;
+  double max_damage() const;
+
+  // Cracks (thesis sec. 4.6). After the crack graph gained edges [first_new_edge, end), every Type III
+  // and Type IV point whose support those edges touch is re-examined: if the crack separates it from a
+  // control point of its NURBS support it switches to an MLS basis over the control points it can see
+  // (segment test in parameter space). The index must outlive the patch's use of it.
+  CrackUpdate update_crack(const crack2d::CrackIndex& index, size_t first_new_edge, const MlsSettings& settings);
+  const crack2d::CrackIndex* crack() const { return crack_; }
+  size_t num_mls_points() const { return num_mls_points_; }
+  size_t num_mls_failures() const { return num_mls_failures_; }
+  // Parameter location of control point k (its Greville point) and of shear particle c (cell centre).
+  Vec2 control_parameter(size_t k) const { return control_grid_.point(static_cast<int>(k)); }
+  const Vec2& shear_parameter(size_t c) const { return cell_center_[c]; }
+  // Per control point / shear particle: non-zero when it takes part in an MLS basis (the particles
+  // whose grid nodes get phantom copies, thesis sec. 4.7.1).
+  const std::vector<unsigned char>& control_near_crack() const { return control_near_crack_; }
+  const std::vector<unsigned char>& shear_near_crack() const { return shear_near_crack_; }
+  // Current mid-surface position at parameter uv: NURBS, or MLS over the visible control points when the
+  // crack separates uv from part of its NURBS support (render vertices, thesis sec. 4.9.3). `work` is
+  // per-thread scratch.
+  Vec3 position_at(const Vec2& uv, MlsBasis& work) const;
+
   // Parameter coordinate and basis (value per support control point) of in-plane point q; support
   // control point indices of its cell.
   const Vec2& parameter(size_t q) const { return param_[q]; }
@@ -111,8 +165,40 @@ class ShellPatch {
   void build_masses();
   void build_force_gather();
   void build_shear_particles();
-  // Type III force of cell c on its support control points (added to out) and its grid stress term.
-  bool add_shear_force(size_t c, Vec3* out);
+  // The basis a point uses: its support control points, basis values (stride: R, R_1, R_2[, 2nd
+  // derivatives]) and where its forces on them go (the cell's slots, or its MLS support's own).
+  struct BasisView {
+    int n;
+    const int* index;
+    const double* basis;
+    int stride;
+    Vec3* force;
+  };
+  static constexpr int32_t kMlsFailed = -2;
+  static constexpr int kBasisStride = 6;  // R, R_1, R_2, R_11, R_12, R_22 per support control point
+  static constexpr int kShearStride = 3;  // R, R_1, R_2 per support control point of a NURBS shear particle
+  // const: the force target they expose is written only by compute_forces.
+  BasisView point_basis(size_t q) const;
+  BasisView shear_basis(size_t c) const;
+  // Type III force of cell c on its support control points and its grid stress term.
+  bool add_shear_force(size_t c);
+  // MLS basis of one point (stride 6: R, R_1, R_2, R_11, R_12, R_22 per support control point) and
+  // the forces on its support control points from the last force pass.
+  struct MlsSupport {
+    std::vector<int> index;
+    std::vector<double> basis;
+    std::vector<Vec3> force;
+    double reach = 1.5;  // support half-width in cells (the MLS factor)
+  };
+  // Computes the MLS basis at xi over visible control points; false when it stays singular.
+  bool build_mls(const Vec2& xi, const crack2d::CrackIndex& index, const MlsSettings& settings, MlsBasis& work,
+                 MlsSupport& out) const;
+  // True when the crack separates xi from any control point of the NURBS support of `cell`.
+  bool nurbs_support_cut(const Vec2& xi, size_t cell, const crack2d::CrackIndex& index) const;
+  void rebuild_mls_gather();
+  // Damage update and tensile weakening of one layer point's in-plane Kirchhoff stress (thesis 4.4.1).
+  InPlaneTensor damaged_stress(const InPlaneTensor& tau, const Vec3& g1, const Vec3& g2, double detF, size_t q,
+                               size_t ql, bool monotone);
   // Position of shear particle c (thesis Eq. 4.10) and the surface tangents a_1, a_2 there.
   Vec3 shear_particle_frame(size_t c, Vec3& a1, Vec3& a2) const;
 
@@ -128,6 +214,18 @@ class ShellPatch {
   std::vector<ReferenceLayer> ref_; // in-plane points x layers: rest metric (rewritten by plasticity)
   std::vector<double> plastic_strain_;  // in-plane points x layers, only for plastic materials
   std::vector<double> volume_;      // in-plane points x layers: V_q
+  std::vector<double> damage_, damage_history_;  // in-plane points x layers, only for fracturing materials
+  std::vector<double> failure_stress_;           // in-plane points, only for fracturing materials
+  // Crack state (thesis sec. 4.6): MLS supports of the points the crack separates from their NURBS
+  // support; slot -1 = NURBS basis, -2 = MLS failed (the point is dropped and reported).
+  const crack2d::CrackIndex* crack_ = nullptr;
+  ControlGrid control_grid_;
+  std::vector<int32_t> point_slot_, shear_slot_;
+  std::vector<MlsSupport> slots_;
+  std::vector<unsigned char> control_near_crack_, shear_near_crack_;
+  std::vector<int> mls_gather_offsets_;             // control point -> entries of mls_gather_
+  std::vector<std::pair<int, int>> mls_gather_;     // (slot, support entry)
+  size_t num_mls_points_ = 0, num_mls_failures_ = 0;
   // Deterministic gather of per-cell forces: control point c receives cell_force_[gather_[k]] for
   // k in gather_offsets_[c] .. gather_offsets_[c+1].
   std::vector<Vec3> cell_force_;

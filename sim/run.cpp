@@ -67,6 +67,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options, std::ost
   const int last_frame = static_cast<int>(std::floor(scene.time.end * scene.time.frame_rate + 1e-9));
   nlohmann::json frames = nlohmann::json::array();
   double penetration = 0, peak_kinetic = 0;
+  long fragments = 0;  // connected components of the shells' render meshes in the last frame
   StageTimer output_timer;
   auto write_frame = [&](int f) {
     auto scope = output_timer.time("output");
@@ -110,6 +111,33 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options, std::ost
     double plastic = 0;
     for (const auto& p : sim.patches()) plastic = std::max(plastic, p.max_plastic_strain());
     metrics["max_plastic_strain"] = plastic;
+    if (scene.has_cracks()) {
+      const CrackStats& c = sim.crack_stats();
+      double max_damage = 0;
+      for (const auto& p : sim.patches()) max_damage = std::max(max_damage, p.fractures() ? p.max_damage() : 0.0);
+      metrics["cracks"] = {{"extractions", c.extractions},
+                           {"subset_violations", c.subset_violations},
+                           {"crack_segments", c.crack_edges},
+                           {"mls_points", c.mls_points},
+                           {"mls_failures", c.mls_failures},
+                           {"max_split_nodes", c.max_split_nodes},
+                           {"contact_pairs", c.contact_pairs},
+                           {"max_contact_residual", c.max_contact_residual},
+                           {"max_damage", max_damage},
+                           {"fragments", fragments}};
+      if (!c.first_mls_failure.empty()) metrics["cracks"]["first_mls_failure"] = c.first_mls_failure;
+      // The crack graphs themselves, in parameter coordinates (for plots and checks).
+      nlohmann::json graphs = nlohmann::json::array();
+      for (size_t i = 0; i < scene.shells.size(); ++i) {
+        const crack2d::CrackGraph* g = sim.crack_graph(i);
+        if (!g) continue;
+        nlohmann::json vertices = nlohmann::json::array(), edges = nlohmann::json::array();
+        for (const auto& v : g->vertices()) vertices.push_back({v.x(), v.y()});
+        for (const auto& e : g->edges()) edges.push_back({e[0], e[1]});
+        graphs.push_back({{"shell", scene.shells[i].name}, {"vertices", vertices}, {"edges", edges}});
+      }
+      summary["crack_graphs"] = graphs;
+    }
     if (step_seconds > 0) {
       const double qps = static_cast<double>(sim.num_quadrature_points()) * static_cast<double>(sim.steps()) / step_seconds;
       metrics["quadrature_point_steps_per_second"] = qps;

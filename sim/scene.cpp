@@ -4,6 +4,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "crack2d/prescribed_cut.hpp"
 #include "nurbs/knot_insertion.hpp"
 #include "nurbs/nurbs_error.hpp"
 #include "nurbs/patch_builders.hpp"
@@ -146,6 +147,44 @@ nurbs::NurbsSurface read_patch(ObjectReader& r, std::string& shape) {
   }
 }
 
+std::vector<Eigen::Vector2d> read_points2(ObjectReader& r, const std::string& key, size_t min_count) {
+  const Json& pts = r.array(key);
+  if (pts.size() < min_count)
+    r.fail(key, "expected at least " + std::to_string(min_count) + " points [u, v], got " + std::to_string(pts.size()));
+  std::vector<Eigen::Vector2d> out;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const Json& c = pts[i];
+    const std::string path = r.child_path(key) + "/" + std::to_string(i);
+    if (!c.is_array() || c.size() != 2 || !c[0].is_number() || !c[1].is_number() ||
+        !std::isfinite(c[0].get<double>()) || !std::isfinite(c[1].get<double>()))
+      throw SceneError(r.file(), path, "expected a parameter point [u, v] of two finite numbers");
+    out.emplace_back(c[0].get<double>(), c[1].get<double>());
+  }
+  return out;
+}
+
+FractureSpec read_fracture(ObjectReader& r) {
+  FractureSpec f;
+  f.enabled = true;
+  f.failure_stress = r.number("failure_stress", Range::positive());
+  f.fracture_energy = r.number("fracture_energy", Range::positive());
+  f.rule = r.choice_or("damage_rule", "healing", {"healing", "monotone"}) == "monotone" ? shell::DamageRule::Monotone
+                                                                                     : shell::DamageRule::Healing;
+  if (r.has("regions")) {
+    const Json& regions = r.array("regions");
+    for (size_t i = 0; i < regions.size(); ++i) {
+      ObjectReader reg(regions[i], r.child_path("regions") + "/" + std::to_string(i), r.file());
+      FailureRegion fr;
+      fr.polygon = read_points2(reg, "polygon", 3);
+      fr.failure_stress = reg.number("failure_stress", Range::positive());
+      reg.finish();
+      f.regions.push_back(std::move(fr));
+    }
+  }
+  r.finish();
+  return f;
+}
+
 Material read_material(ObjectReader r) {
   Material m;
   m.model = r.choice_or("model", "neo_hookean", {"neo_hookean"});
@@ -163,6 +202,7 @@ Material read_material(ObjectReader r) {
   }
   const std::string transverse = r.choice_or("transverse", "condensed", {"condensed", "rigid"});
   m.transverse = transverse == "rigid" ? shell::TransverseModel::Rigid : shell::TransverseModel::Condensed;
+  if (auto frac = r.optional_object("fracture")) m.fracture = read_fracture(*frac);
   r.finish();
   return m;
 }
@@ -183,9 +223,41 @@ Shell read_shell(ObjectReader r, size_t index) {
     q->finish();
   }
   const auto v0 = r.numbers_or("initial_velocity", {0, 0, 0});
+  std::vector<Cut> cuts;
+  if (r.has("cuts")) {
+    const crack2d::Box domain{{surface.knots_u().domain_begin(), surface.knots_v().domain_begin()},
+                              {surface.knots_u().domain_end(), surface.knots_v().domain_end()}};
+    const Json& list = r.array("cuts");
+    for (size_t i = 0; i < list.size(); ++i) {
+      ObjectReader c(list[i], r.child_path("cuts") + "/" + std::to_string(i), r.file());
+      Cut cut;
+      cut.closed = c.boolean_or("closed", false);
+      cut.points = read_points2(c, "points", cut.closed ? 3 : 2);
+      try {
+        crack2d::validate_cut(cut.points, cut.closed, domain);
+      } catch (const crack2d::CutError& e) {
+        c.fail("points", std::string(e.what()) + " (parameter domain [" + std::to_string(domain.lo.x()) + ", " +
+                             std::to_string(domain.hi.x()) + "] x [" + std::to_string(domain.lo.y()) + ", " +
+                             std::to_string(domain.hi.y()) + "])");
+      }
+      c.finish();
+      cuts.push_back(std::move(cut));
+    }
+  }
   r.finish();
   return Shell{std::move(name), std::move(shape), std::move(surface), thickness, std::move(material),
-               quadrature, Eigen::Vector3d(v0[0], v0[1], v0[2])};
+               quadrature, Eigen::Vector3d(v0[0], v0[1], v0[2]), std::move(cuts)};
+}
+
+CrackSettings read_cracks(ObjectReader r) {
+  CrackSettings c;
+  c.extraction_interval = r.integer_or("extraction_interval", c.extraction_interval, Range::closed(1, 1000000));
+  c.phantom_nodes = r.boolean_or("phantom_nodes", c.phantom_nodes);
+  c.contact_friction = r.number_or("contact_friction", c.contact_friction, Range::non_negative());
+  c.max_support = r.number_or("max_support", c.max_support, Range::closed(1.5, 10.0));
+  c.shadow_offset = r.number_or("shadow_offset", c.shadow_offset, Range::open(0.0, 0.01));
+  r.finish();
+  return c;
 }
 
 TimeSettings read_time(ObjectReader r) {
@@ -268,6 +340,7 @@ Scene parse_scene(const std::string& json_text, const std::string& source) {
     scene.grid.apic = grid->choice_or("transfer", "pic", {"pic", "apic"}) == "apic";
     grid->finish();
   }
+  if (auto c = root.optional_object("cracks")) scene.cracks = read_cracks(*c);
   scene.solids = read_solids(root);
   if (scene.shells.empty() && scene.solids.empty()) root.fail("shells", "a scene needs at least one shell or solid");
   scene.colliders = read_colliders(root);

@@ -6,11 +6,27 @@
 
 #include "mpm/colliders.hpp"
 #include "nurbs/nurbs_surface.hpp"
+#include "shell/damage.hpp"
 #include "shell/in_plane_stress.hpp"
 #include "shell/plasticity.hpp"
 #include "shell/quadrature.hpp"
 
 namespace shellfrac::sim {
+
+// A polygon in a patch's parameter plane whose points get their own failure stress (thesis Fig. 4.23b).
+struct FailureRegion {
+  std::vector<Eigen::Vector2d> polygon;
+  double failure_stress = 0;
+};
+
+// Rankine damage of a shell material (thesis Eq. 2.28-2.31, sec. 4.4.1); enabled by a "fracture" object.
+struct FractureSpec {
+  bool enabled = false;
+  double failure_stress = 0;   // sigma_f [Pa]
+  double fracture_energy = 0;  // G_f [J/m^2]
+  shell::DamageRule rule = shell::DamageRule::Healing;
+  std::vector<FailureRegion> regions;  // later regions win where they overlap
+};
 
 // Elastic material of a shell (SI units). Lamé parameters follow thesis Eq. 2.4.
 struct Material {
@@ -25,11 +41,19 @@ struct Material {
   shell::PlasticityParams plasticity;
   // Thickness treatment of the Kirchhoff-Love in-plane stress (see shell/in_plane_stress.hpp).
   shell::TransverseModel transverse = shell::TransverseModel::Condensed;
+  FractureSpec fracture;
 
   double mu() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
   double lambda() const {
     return youngs_modulus * poisson_ratio / ((1.0 + poisson_ratio) * (1.0 - 2.0 * poisson_ratio));
   }
+};
+
+// A prescribed cut in a patch's parameter plane: an open polyline or a closed curve (thesis Fig. 4.14,
+// 4.21). Validated against the patch domain when the scene is read.
+struct Cut {
+  std::vector<Eigen::Vector2d> points;
+  bool closed = false;
 };
 
 // One shell: a NURBS patch (its reference configuration), a thickness and a material.
@@ -41,6 +65,7 @@ struct Shell {
   Material material;
   shell::QuadratureRule quadrature;
   Eigen::Vector3d initial_velocity = Eigen::Vector3d::Zero();
+  std::vector<Cut> cuts;
 };
 
 // A volumetric solid (Type-I particles) sampled inside an analytic shape.
@@ -76,6 +101,15 @@ struct Pin {
   std::string json_path;  // where the pin was defined, for messages
 };
 
+// Crack machinery shared by all fracturing shells (thesis sec. 4.4.2, 4.6, 4.7).
+struct CrackSettings {
+  int extraction_interval = 10;    // steps between consistent crack extractions
+  bool phantom_nodes = true;       // false: a single velocity field (for comparison; fragments glue)
+  double contact_friction = 0.3;   // Coulomb coefficient between fragments (Eq. 4.25)
+  double max_support = 4.5;        // MLS support cap in cells (sec. 4.6)
+  double shadow_offset = 1e-5;     // render-mesh shadow vertex offset Dv (sec. 4.9.3)
+};
+
 struct TimeSettings {
   double end = 1.0;                // simulated seconds
   double frame_rate = 24.0;        // frames written per simulated second
@@ -105,6 +139,13 @@ struct Scene {
   std::vector<SolidBody> solids;
   std::vector<ColliderSpec> colliders;
   std::vector<Pin> pins;
+  CrackSettings cracks;
+  // True when any shell can crack (fracture material or prescribed cuts).
+  bool has_cracks() const {
+    for (const Shell& s : shells)
+      if (s.material.fracture.enabled || !s.cuts.empty()) return true;
+    return false;
+  }
 };
 
 // Parses and validates a scene. All problems throw SceneError naming `source` and the JSON path.

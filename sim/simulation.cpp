@@ -24,6 +24,10 @@ shell::ShellMaterial shell_material(const Shell& s) {
   m.shear.k = s.material.compression_stiffness.value_or(s.material.youngs_modulus);
   m.shear.friction = s.material.shear_friction;
   m.plasticity = s.material.plasticity;
+  m.fracture.enabled = s.material.fracture.enabled;
+  m.fracture.failure_stress = s.material.fracture.failure_stress;
+  m.fracture.fracture_energy = s.material.fracture.fracture_energy;
+  m.fracture.rule = s.material.fracture.rule;
   return m;
 }
 
@@ -124,6 +128,7 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), grid_(1.0) {
     sets_.push_back(shear);
   }
   for (auto& solid : solids_) sets_.push_back(solid.view());
+  init_cracks();
 }
 
 double Simulation::stable_dt() const {
@@ -160,6 +165,7 @@ void Simulation::step(double dt) {
   stage_g2p(dt);
   time_ += dt;
   ++steps_;
+  if (steps_ % scene_.cracks.extraction_interval == 0) stage_cracks();
   min_dt_ = steps_ == 1 ? dt : std::min(min_dt_, dt);
   max_dt_ = std::max(max_dt_, dt);
 }
@@ -180,6 +186,7 @@ void Simulation::stage_p2g() {
     os << " at step " << steps_ << " (t = " << time_ << " s); the time step may be too large for this material";
     throw NumericalError(os.str());
   }
+  partition_phantom_nodes();
   grid_.transfer_mass_momentum(sets_);
 }
 
@@ -223,6 +230,12 @@ void Simulation::stage_grid_update(double dt) {
     tbb::parallel_for(size_t{0}, grid_.num_nodes(), [&](size_t n) { grid_.node_velocity(n) *= keep; });
   }
   mpm::apply_colliders(grid_, colliders_, time_ + dt);
+  if (!phantoms_.copy_parent.empty()) {  // fragments meeting at phantom copies (thesis sec. 4.7.2)
+    const mpm::ContactStats c =
+        mpm::resolve_phantom_contact(grid_, phantoms_.copy_kind, dt, scene_.cracks.contact_friction);
+    crack_stats_.contact_pairs += c.pairs_resolved;
+    crack_stats_.max_contact_residual = std::max(crack_stats_.max_contact_residual, c.max_residual);
+  }
 }
 
 void Simulation::stage_g2p(double dt) {

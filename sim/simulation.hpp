@@ -3,6 +3,8 @@
 #include <string>
 #include <vector>
 
+#include "crack2d/consistent_extraction.hpp"
+#include "mpm/phantom_nodes.hpp"
 #include "mpm/solid_particles.hpp"
 #include "mpm/sparse_grid.hpp"
 #include "render_mesh/poly_mesh.hpp"
@@ -12,10 +14,24 @@
 
 namespace shellfrac::sim {
 
+// Counters of the crack machinery over a run (summary.json metrics.cracks).
+struct CrackStats {
+  long extractions = 0;            // consistent crack extractions run (all patches)
+  size_t subset_violations = 0;    // extractions whose graph did not contain the previous one (must be 0)
+  size_t crack_edges = 0;          // segments in all crack graphs now
+  size_t mls_points = 0;           // in-plane points with MLS bases now
+  size_t mls_failures = 0;         // points whose MLS support stayed singular (dropped)
+  std::string first_mls_failure;
+  size_t max_split_nodes = 0;      // largest number of grid nodes with phantom copies in one step
+  size_t contact_pairs = 0;        // pairwise fragment contacts resolved (Eq. 4.23-4.26), all steps
+  double max_contact_residual = 0; // largest approaching velocity left after contact
+};
+
 // A running scene: the Kirchhoff-Love shell patches on a sparse MPM grid (thesis sec. 4.3.2), advanced
 // by explicit symplectic Euler through named, timed stages:
-//   p2g -> forces -> grid_update -> g2p
-// The constitutive updates run where their kinematics are at hand: the Type III director update and
+//   p2g -> forces -> grid_update -> g2p -> cracks (every k steps)
+// Near cracks p2g partitions grid nodes into phantom copies and grid_update resolves contact between
+// them (thesis sec. 4.7). The constitutive updates run where their kinematics are at hand: the Type III director update and
 // return mapping at the end of g2p, the Type IV plastic return mapping inside the force pass (on the
 // trial state of the new positions, before the stress). Coupling and crack extraction join later.
 class Simulation {
@@ -55,6 +71,11 @@ class Simulation {
   Eigen::Vector3d linear_momentum() const;
   // The render mesh of every shell at the current state (the scene's output resolution).
   std::vector<render_mesh::PolyMesh> render_meshes() const;
+  const CrackStats& crack_stats() const { return crack_stats_; }
+  // Crack graph of shell i, or null when the shell cannot crack.
+  const crack2d::CrackGraph* crack_graph(size_t shell) const {
+    return cracks_[shell] ? &cracks_[shell]->graph() : nullptr;
+  }
   // Largest depth by which any render vertex is inside any collider now (0 if none).
   double collider_penetration(const std::vector<render_mesh::PolyMesh>& meshes) const;
 
@@ -63,6 +84,9 @@ class Simulation {
   void stage_forces();
   void stage_grid_update(double dt);
   void stage_g2p(double dt);
+  void stage_cracks();
+  void init_cracks();
+  void partition_phantom_nodes();
   void apply_pins(double t_new);
   void check_finite() const;
 
@@ -77,6 +101,10 @@ class Simulation {
   mpm::SparseGrid grid_;
   std::vector<mpm::ParticleSet> sets_;
   StageTimer timer_;
+  std::vector<std::unique_ptr<crack2d::ConsistentCrackExtractor>> cracks_;  // per shell, null if it cannot crack
+  shell::MlsSettings mls_settings_;
+  mpm::PhantomLayout phantoms_;
+  CrackStats crack_stats_;
   double elastic_bound_ = 0;
   double time_ = 0;
   long steps_ = 0;

@@ -1,0 +1,224 @@
+#include "mpm/phantom_nodes.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <tuple>
+
+#include "mpm/sparse_grid.hpp"
+
+namespace shellfrac::mpm {
+
+namespace {
+
+struct NodeParticle {
+  uint32_t node, set, particle, stencil;  // stencil entry i + 3 j + 9 k of the node for this particle
+  bool operator<(const NodeParticle& o) const {
+    return std::tie(node, set, particle) < std::tie(o.node, o.set, o.particle);
+  }
+};
+
+int find_root(std::vector<int>& parent, int i) {
+  while (parent[static_cast<size_t>(i)] != i) {
+    parent[static_cast<size_t>(i)] = parent[static_cast<size_t>(parent[static_cast<size_t>(i)])];
+    i = parent[static_cast<size_t>(i)];
+  }
+  return i;
+}
+
+}  // namespace
+
+PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<ParticleSet>& sets,
+                              const std::vector<PartitionRole>& roles, const Connectivity& connected) {
+  PhantomLayout layout;
+  // 1. Nodes reached by near-crack particles.
+  std::vector<unsigned char> flagged(grid.num_grid_nodes(), 0);
+  bool any = false;
+  for (size_t s = 0; s < sets.size() && s < roles.size(); ++s) {
+    if (!roles[s].near_crack) continue;
+    for (size_t p = 0; p < sets[s].count; ++p)
+      if (roles[s].near_crack[p]) {
+        for (uint32_t n : grid.stencil_nodes(sets[s].position[p])) flagged[n] = 1;
+        any = true;
+      }
+  }
+  if (!any) return layout;
+
+  // 2. Every (node, particle) pair at a flagged node, in a deterministic order.
+  std::vector<NodeParticle> pairs;
+  std::vector<std::array<uint32_t, 27>> stencils;  // of particles that reach a flagged node
+  std::vector<std::vector<int32_t>> touching(sets.size());
+  for (size_t s = 0; s < sets.size(); ++s) {
+    touching[s].assign(sets[s].count, -1);
+    std::vector<std::array<uint32_t, 27>> st(sets[s].count);
+    std::vector<unsigned char> hit(sets[s].count, 0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, sets[s].count, 512), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t p = r.begin(); p != r.end(); ++p) {
+        st[p] = grid.stencil_nodes(sets[s].position[p]);
+        for (uint32_t n : st[p])
+          if (flagged[n]) hit[p] = 1;
+      }
+    });
+    for (size_t p = 0; p < sets[s].count; ++p) {
+      if (!hit[p]) continue;
+      touching[s][p] = static_cast<int32_t>(stencils.size());
+      stencils.push_back(st[p]);
+      for (uint32_t k = 0; k < 27; ++k)
+        if (flagged[st[p][k]]) pairs.push_back({st[p][k], static_cast<uint32_t>(s), static_cast<uint32_t>(p), k});
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+
+  // 3. Components per node; a node with two or more gets one copy per component.
+  std::vector<int32_t> pair_copy(pairs.size(), -1);
+  std::vector<int> parent, component_copy;
+  for (size_t begin = 0; begin < pairs.size();) {
+    size_t end = begin;
+    while (end < pairs.size() && pairs[end].node == pairs[begin].node) ++end;
+    const int n = static_cast<int>(end - begin);
+    parent.resize(static_cast<size_t>(n));
+    std::iota(parent.begin(), parent.end(), 0);
+    for (int a = 0; a < n; ++a)
+      for (int b = a + 1; b < n; ++b) {
+        const int ra = find_root(parent, a), rb = find_root(parent, b);
+        if (ra == rb) continue;
+        const NodeParticle &pa = pairs[begin + static_cast<size_t>(a)], &pb = pairs[begin + static_cast<size_t>(b)];
+        if (connected(pa.set, pa.particle, pb.set, pb.particle)) parent[static_cast<size_t>(std::max(ra, rb))] = std::min(ra, rb);
+      }
+    // Number the components by their first member (roots are the smallest members).
+    component_copy.assign(static_cast<size_t>(n), -1);
+    int components = 0;
+    for (int a = 0; a < n; ++a)
+      if (find_root(parent, a) == a) ++components;
+    if (components >= 2) {
+      ++layout.split_nodes;
+      for (int a = 0; a < n; ++a) {
+        const int r = find_root(parent, a);
+        if (component_copy[static_cast<size_t>(r)] < 0) {
+          component_copy[static_cast<size_t>(r)] = static_cast<int>(layout.copy_parent.size());
+          layout.copy_parent.push_back(pairs[begin].node);
+          const NodeParticle& first = pairs[begin + static_cast<size_t>(a)];
+          layout.copy_kind.push_back(first.set < roles.size() ? roles[first.set].kind : FieldKind::Shell);
+        }
+        pair_copy[begin + static_cast<size_t>(a)] = component_copy[static_cast<size_t>(r)];
+      }
+    }
+    begin = end;
+  }
+  if (layout.copy_parent.empty()) return layout;
+
+  // 4. Stencil rows for the particles that use a copy.
+  layout.particle_row.resize(sets.size());
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    if (pair_copy[i] < 0) continue;
+    const NodeParticle& np = pairs[i];
+    auto& rows = layout.particle_row[np.set];
+    if (rows.empty()) rows.assign(sets[np.set].count, -1);
+    int32_t& row = rows[np.particle];
+    if (row < 0) {
+      row = static_cast<int32_t>(layout.stencil_copy.size() / 27);
+      layout.stencil_copy.insert(layout.stencil_copy.end(), 27, -1);
+      const auto& st = stencils[static_cast<size_t>(touching[np.set][np.particle])];
+      layout.stencil_node.insert(layout.stencil_node.end(), st.begin(), st.end());
+    }
+    layout.stencil_copy[static_cast<size_t>(row) * 27 + np.stencil] = pair_copy[i];
+  }
+  return layout;
+}
+
+namespace {
+
+// Contact normal from copy a towards copy b (thesis Eq. 4.22). A solid's outward normal is its mass
+// gradient sum m grad w (it points from the material to the node); a shell has no volume, so shell-shell
+// contact uses the direction between the centres of mass. Zero when undefined.
+Vec3 contact_normal(const SparseGrid& grid, size_t a, size_t b, FieldKind ka, FieldKind kb) {
+  const size_t g = grid.num_grid_nodes();
+  auto normalized = [](const Vec3& v) { const double n = v.norm(); return n > 0 ? Vec3(v / n) : Vec3(Vec3::Zero()); };
+  if (ka == FieldKind::Solid && kb == FieldKind::Solid)
+    return normalized(normalized(grid.copy_mass_gradient(a - g)) - normalized(grid.copy_mass_gradient(b - g)));
+  if (ka == FieldKind::Solid) return normalized(grid.copy_mass_gradient(a - g));
+  if (kb == FieldKind::Solid) return -normalized(grid.copy_mass_gradient(b - g));
+  const Vec3 com_a = grid.copy_mass_position(a - g) / grid.node_mass(a);
+  const Vec3 com_b = grid.copy_mass_position(b - g) / grid.node_mass(b);
+  return normalized(com_b - com_a);
+}
+
+}  // namespace
+
+ContactStats resolve_phantom_contact(SparseGrid& grid, const std::vector<FieldKind>& copy_kind, double dt,
+                                     double friction, double tolerance) {
+  ContactStats stats;
+  const size_t g = grid.num_grid_nodes(), copies = grid.num_phantom_copies();
+  if (copies == 0) return stats;
+  // Copies of one node are contiguous; each node is independent.
+  std::vector<size_t> starts;
+  for (size_t c = 0; c < copies; ++c)
+    if (c == 0 || grid.parent_node(g + c) != grid.parent_node(g + c - 1)) starts.push_back(c);
+  starts.push_back(copies);
+  std::vector<ContactStats> per_node(starts.size() - 1);
+  tbb::parallel_for(size_t{0}, starts.size() - 1, [&](size_t s) {
+    const size_t begin = g + starts[s], end = g + starts[s + 1];
+    ContactStats& st = per_node[s];
+    st.nodes = 1;
+    // Normals depend only on the transferred mass data, not on the velocities: compute them once.
+    const size_t n = end - begin;
+    std::vector<Vec3> normal(n * n, Vec3::Zero());
+    for (size_t a = 0; a < n; ++a)
+      for (size_t b = a + 1; b < n; ++b)
+        if (grid.node_mass(begin + a) > 0 && grid.node_mass(begin + b) > 0)
+          normal[a * n + b] = contact_normal(grid, begin + a, begin + b, copy_kind[starts[s] + a], copy_kind[starts[s] + b]);
+    const size_t max_iterations = 20 * n * n;
+    for (size_t it = 0;; ++it) {
+      // The pair with the largest approaching normal velocity (v_a - v_b) . n > 0.
+      double worst = tolerance;
+      size_t wa = 0, wb = 0;
+      for (size_t a = 0; a < n; ++a)
+        for (size_t b = a + 1; b < n; ++b) {
+          const Vec3& nab = normal[a * n + b];
+          if (nab.isZero()) continue;
+          const double approach = (grid.node_velocity(begin + a) - grid.node_velocity(begin + b)).dot(nab);
+          if (approach > worst) {
+            worst = approach;
+            wa = a;
+            wb = b;
+          }
+        }
+      if (worst <= tolerance || it >= max_iterations) {
+        st.max_iterations = it;
+        st.max_residual = worst > tolerance ? worst : 0.0;
+        break;
+      }
+      const size_t a = begin + wa, b = begin + wb;
+      const Vec3& nab = normal[wa * n + wb];
+      const double ma = grid.node_mass(a), mb = grid.node_mass(b), mu = ma * mb / (ma + mb);
+      const Vec3 dv = grid.node_velocity(b) - grid.node_velocity(a);
+      const double fn = -mu * dv.dot(nab) / dt;  // thesis Eq. 4.23 (> 0 when approaching)
+      // Tangent: normalised tangential part of the relative velocity (the misprint fix of Eq. 4.24).
+      const Vec3 dv_t = dv - dv.dot(nab) * nab;
+      const double t_norm = dv_t.norm();
+      Vec3 tangent = Vec3::Zero();
+      double ft = 0.0;
+      if (t_norm > 1e-14 * (1.0 + dv.norm())) {
+        tangent = dv_t / t_norm;
+        ft = -mu * dv.dot(tangent) / dt;                                   // thesis Eq. 4.24 (sticking)
+        if (std::abs(ft) > friction * std::abs(fn)) ft = -friction * std::abs(fn);  // Eq. 4.25, dv.t > 0
+      }
+      const Vec3 fa = -(fn * nab + ft * tangent);  // thesis Eq. 4.26; copy b receives -fa
+      const Vec3 impulse = dt * fa;
+      grid.node_velocity(a) += impulse / ma;
+      grid.node_velocity(b) -= impulse / mb;
+      ++st.pairs_resolved;
+    }
+  });
+  for (const ContactStats& st : per_node) {
+    stats.nodes += st.nodes;
+    stats.pairs_resolved += st.pairs_resolved;
+    stats.max_iterations = std::max(stats.max_iterations, st.max_iterations);
+    stats.max_residual = std::max(stats.max_residual, st.max_residual);
+  }
+  return stats;
+}
+
+}  // namespace shellfrac::mpm

@@ -1,0 +1,243 @@
+#include "shell/mls_basis.hpp"
+
+#include <Eigen/Cholesky>
+#include <cstdio>
+#include <limits>
+
+#include "nurbs/nurbs_surface.hpp"
+
+namespace shellfrac::shell {
+
+namespace {
+
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+
+std::string fmt(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", x);
+  return buf;
+}
+
+void clear_result(MlsBasis& out) {
+  out.index.clear();
+  out.R.clear();
+  out.R1.clear();
+  out.R2.clear();
+  out.R11.clear();
+  out.R12.clear();
+  out.R22.clear();
+}
+
+void fail(MlsBasis& out, MlsStatus status, std::string reason) {
+  clear_result(out);
+  out.ok = false;
+  out.status = status;
+  out.reason = std::move(reason);
+}
+
+}  // namespace
+
+// thesis Eq. 4.18 with the second branch corrected to the C^2 cubic spline (DESIGN.md, known misprints).
+CubicWeight cubic_weight(double r) {
+  if (r <= 0.5) return {2.0 / 3.0 - 4.0 * r * r + 4.0 * r * r * r, -8.0 * r + 12.0 * r * r, -8.0 + 24.0 * r};
+  if (r < 1.0) {
+    const double s = 1.0 - r;  // 4/3 - 4r + 4r^2 - 4/3 r^3 == (4/3)(1 - r)^3
+    return {4.0 / 3.0 * s * s * s, -4.0 * s * s, 8.0 * s};
+  }
+  return {0.0, 0.0, 0.0};
+}
+
+ControlGrid ControlGrid::from_surface(const nurbs::NurbsSurface& surface) {
+  ControlGrid grid;
+  const nurbs::KnotVector& ku = surface.knots_u();
+  const nurbs::KnotVector& kv = surface.knots_v();
+  grid.u.resize(static_cast<std::size_t>(ku.num_basis()));
+  grid.v.resize(static_cast<std::size_t>(kv.num_basis()));
+  for (int i = 0; i < ku.num_basis(); ++i) grid.u[static_cast<std::size_t>(i)] = ku.greville(i);
+  for (int j = 0; j < kv.num_basis(); ++j) grid.v[static_cast<std::size_t>(j)] = kv.greville(j);
+  // Mean cell size: exact for the uniform knot vectors of the built-in patches.
+  grid.cell_u = (ku.domain_end() - ku.domain_begin()) / ku.num_spans();
+  grid.cell_v = (kv.domain_end() - kv.domain_begin()) / kv.num_spans();
+  return grid;
+}
+
+namespace detail {
+
+bool check_mls_inputs(const Eigen::Vector2d& xi, double cell_u, double cell_v, const MlsSettings& s,
+                      MlsBasis& out) {
+  out.factor = 0.0;
+  out.rcond = 0.0;
+  std::string why;
+  if (!xi.allFinite()) {
+    why = "evaluation point (" + fmt(xi.x()) + ", " + fmt(xi.y()) + ") is not finite";
+  } else if (!(std::isfinite(cell_u) && cell_u > 0.0 && std::isfinite(cell_v) && cell_v > 0.0)) {
+    why = "cell sizes (" + fmt(cell_u) + ", " + fmt(cell_v) + ") must be finite and > 0";
+  } else if (!(std::isfinite(s.initial_factor) && s.initial_factor > 0.0 && std::isfinite(s.max_factor) &&
+               s.max_factor >= s.initial_factor)) {
+    why = "support factors must satisfy 0 < initial_factor (" + fmt(s.initial_factor) + ") <= max_factor (" +
+          fmt(s.max_factor) + ")";
+  } else if (!(s.growth > 1.0 && std::isfinite(s.growth))) {
+    why = "growth = " + fmt(s.growth) + " must be finite and > 1";
+  } else if (s.min_neighbours < 1) {
+    why = "min_neighbours = " + std::to_string(s.min_neighbours) + " must be >= 1";
+  } else if (!(s.min_rcond >= 0.0)) {
+    why = "min_rcond = " + fmt(s.min_rcond) + " must be >= 0";
+  }
+  if (why.empty()) return true;
+  fail(out, MlsStatus::invalid_input, "MLS basis: " + why);
+  return false;
+}
+
+// Evaluation in local coordinates: eta = ((xi_k - xi) / d) componentwise, i.e. shifted to the evaluation
+// point and scaled by the support size. The MLS approximant is unchanged by an invertible affine change of a
+// complete polynomial basis, so R_k and its derivatives are the same as with p(xi) of thesis Eq. 4.16, while
+// the moment matrix entries stay O(1) even for cells 0.01 wide (p(xi) itself would give entries spanning
+// 1 .. 1e-8 and a useless condition number). The centre is held fixed while differentiating.
+//
+// With A = sum_k W_k q_k q_k^T (Eq. 4.17, q_k = p(eta_k)) and gamma = A^-1 p(eta) (A is symmetric),
+// R_k = W_k q_k . gamma is Eq. 4.16. Differentiating A gamma = p gives
+//   A gamma_a  = p_a  - A_a gamma,
+//   A gamma_ab = p_ab - A_a gamma_b - A_b gamma_a - A_ab gamma,
+// which is Eq. 4.20/4.21 with the A^-1 derivatives expanded, but needs only three 6x6 solves per derivative
+// order with one Cholesky factor of A, and never forms A_a or A_ab (A_a gamma = sum_k W_k,a (q_k . gamma) q_k).
+MlsAttempt mls_evaluate(const Eigen::Vector2d& xi, double d_u, double d_v, const MlsSettings& settings,
+                        MlsBasis& out) {
+  MlsBasis::Workspace& w = out.work;
+  const std::size_t n = w.index.size();
+  w.W.resize(n);
+  w.W1.resize(n);
+  w.W2.resize(n);
+  w.W11.resize(n);
+  w.W12.resize(n);
+  w.W22.resize(n);
+  w.q.resize(6 * n);
+  out.index.clear();
+
+  // Weights (Eq. 4.18 in tensor-product form) and their derivatives in scaled coordinates y = xi / d;
+  // candidates with W = 0 are dropped, so the arrays are compacted to the m support points.
+  Mat6 A = Mat6::Zero();  // thesis Eq. 4.17
+  std::size_t m = 0;
+  for (std::size_t c = 0; c < n; ++c) {
+    const double e1 = (w.pu[c] - xi.x()) / d_u;  // local coordinate of the control point
+    const double e2 = (w.pv[c] - xi.y()) / d_v;
+    const CubicWeight a = cubic_weight(std::abs(e1));
+    const CubicWeight b = cubic_weight(std::abs(e2));
+    const double W = a.w * b.w;
+    if (!(W > 0.0)) continue;
+    // r = |y - y_k| = |e|, dr/dy = -sign(e); dr/dy is squared away in the second derivative.
+    const double s1 = e1 > 0.0 ? -1.0 : 1.0;
+    const double s2 = e2 > 0.0 ? -1.0 : 1.0;
+    w.W[m] = W;
+    w.W1[m] = a.dw * s1 * b.w;
+    w.W2[m] = a.w * b.dw * s2;
+    w.W11[m] = a.ddw * b.w;
+    w.W12[m] = a.dw * s1 * b.dw * s2;
+    w.W22[m] = a.w * b.ddw;
+    Eigen::Map<Vec6> q(&w.q[6 * m]);
+    q << 1.0, e1, e2, e1 * e1, e1 * e2, e2 * e2;  // thesis Eq. 4.16 basis in local coordinates
+    A.noalias() += W * q * q.transpose();
+    out.index.push_back(w.index[c]);
+    ++m;
+  }
+
+  MlsAttempt attempt;
+  attempt.neighbours = static_cast<int>(m);
+  if (attempt.neighbours < settings.min_neighbours || m < 6) {
+    attempt.status = MlsStatus::too_few_neighbours;
+    out.index.clear();
+    return attempt;
+  }
+  // Conditioning is judged on the Jacobi-equilibrated matrix D^-1/2 A D^-1/2: the quadratic moments are
+  // naturally ~50x smaller than the zeroth one, which says nothing about the geometry of the support.
+  const Vec6 diag_scale = A.diagonal().cwiseMax(std::numeric_limits<double>::min()).cwiseSqrt().cwiseInverse();
+  const Mat6 A_eq = diag_scale.asDiagonal() * A * diag_scale.asDiagonal();
+  const Eigen::LLT<Mat6> llt_eq(A_eq);
+  attempt.rcond = llt_eq.info() == Eigen::Success ? llt_eq.rcond() : 0.0;
+  out.rcond = attempt.rcond;
+  if (!(attempt.rcond >= settings.min_rcond) || !(attempt.rcond > 0.0)) {
+    attempt.status = MlsStatus::ill_conditioned;
+    out.index.clear();
+    return attempt;
+  }
+  // Solve with A itself: its Cholesky residuals are what the reproduction identities (sum R q = p, ...)
+  // depend on, and they came out smaller than solving through the equilibrated factor.
+  const Eigen::LLT<Mat6> A_llt(A);
+  const auto solve = [&](const Vec6& b) -> Vec6 { return A_llt.solve(b); };
+
+  // p and its derivatives at the evaluation point (eta = 0).
+  const Vec6 gamma = solve(Vec6::Unit(0));
+  Vec6 rhs1 = Vec6::Unit(1), rhs2 = Vec6::Unit(2);
+  for (std::size_t k = 0; k < m; ++k) {
+    const Eigen::Map<const Vec6> q(&w.q[6 * k]);
+    const double t = q.dot(gamma);
+    rhs1.noalias() -= (w.W1[k] * t) * q;
+    rhs2.noalias() -= (w.W2[k] * t) * q;
+  }
+  const Vec6 gamma1 = solve(rhs1);
+  const Vec6 gamma2 = solve(rhs2);
+
+  Vec6 rhs11 = 2.0 * Vec6::Unit(3), rhs12 = Vec6::Unit(4), rhs22 = 2.0 * Vec6::Unit(5);
+  for (std::size_t k = 0; k < m; ++k) {
+    const Eigen::Map<const Vec6> q(&w.q[6 * k]);
+    const double t = q.dot(gamma), t1 = q.dot(gamma1), t2 = q.dot(gamma2);
+    rhs11.noalias() -= (2.0 * w.W1[k] * t1 + w.W11[k] * t) * q;
+    rhs12.noalias() -= (w.W1[k] * t2 + w.W2[k] * t1 + w.W12[k] * t) * q;
+    rhs22.noalias() -= (2.0 * w.W2[k] * t2 + w.W22[k] * t) * q;
+  }
+  const Vec6 gamma11 = solve(rhs11);
+  const Vec6 gamma12 = solve(rhs12);
+  const Vec6 gamma22 = solve(rhs22);
+
+  out.R.resize(m);
+  out.R1.resize(m);
+  out.R2.resize(m);
+  out.R11.resize(m);
+  out.R12.resize(m);
+  out.R22.resize(m);
+  // Chain rule back to parameter coordinates: d/dxi_a = (1/d_a) d/dy_a.
+  const double iu = 1.0 / d_u, iv = 1.0 / d_v;
+  double check = 0.0;
+  for (std::size_t k = 0; k < m; ++k) {
+    const Eigen::Map<const Vec6> q(&w.q[6 * k]);
+    const double t = q.dot(gamma), t1 = q.dot(gamma1), t2 = q.dot(gamma2);
+    const double W = w.W[k], W1 = w.W1[k], W2 = w.W2[k];
+    out.R[k] = W * t;                                                               // thesis Eq. 4.16
+    out.R1[k] = (W1 * t + W * t1) * iu;                                             // thesis Eq. 4.20
+    out.R2[k] = (W2 * t + W * t2) * iv;
+    out.R11[k] = (w.W11[k] * t + 2.0 * W1 * t1 + W * q.dot(gamma11)) * iu * iu;  // thesis Eq. 4.21
+    out.R12[k] = (w.W12[k] * t + W1 * t2 + W2 * t1 + W * q.dot(gamma12)) * iu * iv;
+    out.R22[k] = (w.W22[k] * t + 2.0 * W2 * t2 + W * q.dot(gamma22)) * iv * iv;
+    check += out.R[k] + out.R1[k] + out.R2[k] + out.R11[k] + out.R12[k] + out.R22[k];
+  }
+  if (!std::isfinite(check)) {  // cannot happen past the rcond test; never hand out NaN anyway
+    attempt.status = MlsStatus::ill_conditioned;
+    clear_result(out);
+    return attempt;
+  }
+  out.ok = true;
+  out.status = MlsStatus::ok;
+  out.reason.clear();
+  return attempt;
+}
+
+void report_mls_failure(const Eigen::Vector2d& xi, const MlsAttempt& attempt, const MlsSettings& settings,
+                        MlsBasis& out) {
+  const std::string where = "MLS basis at (" + fmt(xi.x()) + ", " + fmt(xi.y()) + "): ";
+  if (attempt.status == MlsStatus::too_few_neighbours) {
+    fail(out, attempt.status,
+         where + "only " + std::to_string(attempt.neighbours) + " visible control points with weight > 0 at the " +
+             "maximum support factor " + fmt(settings.max_factor) + " (need " +
+             std::to_string(std::max(settings.min_neighbours, 6)) + ")");
+  } else {
+    fail(out, attempt.status,
+         where + "moment matrix is singular or ill-conditioned at the maximum support factor " +
+             fmt(settings.max_factor) + " with " + std::to_string(attempt.neighbours) +
+             " support points (rcond " + fmt(attempt.rcond) + " < " + fmt(settings.min_rcond) +
+             "); the visible control points may be collinear");
+  }
+}
+
+}  // namespace detail
+
+}  // namespace shellfrac::shell

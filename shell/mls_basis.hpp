@@ -1,0 +1,190 @@
+#pragma once
+// Moving-least-squares (MLS) shape functions in a patch's parameter plane, used for quadrature points
+// whose NURBS support is cut by a crack (thesis sec. 4.6, Eq. 4.15-4.21). Equations: docs/mls.md.
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace shellfrac::nurbs {
+class NurbsSurface;
+}
+
+namespace shellfrac::shell {
+
+// How the support of one evaluation point is chosen (thesis sec. 4.6, "we determine d_X").
+struct MlsSettings {
+  double initial_factor = 1.5;  // d_alpha = factor * l_alpha; 1.5 l is the NURBS-equivalent support
+  double max_factor = 4.5;      // the thesis never needed more than ~4.5 l
+  double growth = 1.25;         // factor multiplier per enlargement step (> 1); the last step lands on max_factor
+  int min_neighbours = 9;       // visible control points with weight > 0 (9 for a quadratic basis)
+  // Lower bound on the reciprocal 1-norm condition estimate of the local, Jacobi-equilibrated moment
+  // matrix. Near-degenerate supports (a row of control points with weight -> 0) give shape-function
+  // derivatives with large cancelling terms; 1e-3 keeps quadratic reproduction errors below ~3e-10 in
+  // cell-scaled units (l^2 d2R) and leaves interior 4x4 Gauss points at 1.5 l (docs/mls.md).
+  double min_rcond = 1e-3;
+};
+
+enum class MlsStatus {
+  ok,
+  invalid_input,       // non-finite point, bad settings or cell sizes
+  too_few_neighbours,  // fewer than min_neighbours visible control points even at max_factor
+  ill_conditioned,     // moment matrix singular or rcond < min_rcond even at max_factor
+};
+
+// The compact MLS basis of one evaluation point: support point k has control point index[k] and shape
+// function value R[k] with parametric derivatives R1 = dR/dxi1, R2, R11 = d2R/dxi1^2, R12, R22.
+// Reuse one object per thread: all buffers keep their capacity between calls.
+struct MlsBasis {
+  std::vector<int> index;
+  std::vector<double> R, R1, R2, R11, R12, R22;
+  double factor = 0.0;  // final support factor (d_alpha = factor * l_alpha); last tried one on failure
+  double rcond = 0.0;   // reciprocal condition estimate of the scaled moment matrix at `factor`
+  bool ok = false;
+  MlsStatus status = MlsStatus::invalid_input;
+  std::string reason;  // empty when ok
+
+  int size() const { return static_cast<int>(index.size()); }
+
+  // Scratch space of mls_basis (visible candidates and per-point weights); not part of the result.
+  struct Workspace {
+    std::vector<int> index;
+    std::vector<double> pu, pv;                  // parameter coordinates of visible candidates
+    std::vector<double> W, W1, W2, W11, W12, W22;  // weight and its derivatives (scaled coordinates)
+    std::vector<double> q;                       // 6 local basis values per point
+  } work;
+};
+
+// Control points of a NURBS patch in parameter space: the tensor grid of Greville abscissae, control
+// point (i, j) at flat index i + nu * j (as nurbs::NurbsSurface). cell_u/cell_v are the cell sizes l_alpha.
+// Box queries use binary search, so the cost is proportional to the number of points returned.
+struct ControlGrid {
+  std::vector<double> u, v;  // non-decreasing
+  double cell_u = 0.0, cell_v = 0.0;
+
+  int nu() const { return static_cast<int>(u.size()); }
+  int nv() const { return static_cast<int>(v.size()); }
+  int size() const { return nu() * nv(); }
+  Eigen::Vector2d point(int k) const {
+    return {u[static_cast<std::size_t>(k % nu())], v[static_cast<std::size_t>(k / nu())]};
+  }
+
+  // Greville abscissae of the surface's knot vectors; cell size = domain length / number of spans.
+  static ControlGrid from_surface(const nurbs::NurbsSurface& surface);
+
+  // Calls f(k, xi_k) for every point with |u - c.x| <= h_u and |v - c.y| <= h_v (possibly a few more).
+  template <class F>
+  void for_each_in_box(const Eigen::Vector2d& c, double h_u, double h_v, F&& f) const {
+    const auto i0 = std::lower_bound(u.begin(), u.end(), c.x() - h_u) - u.begin();
+    const auto i1 = std::upper_bound(u.begin(), u.end(), c.x() + h_u) - u.begin();
+    const auto j0 = std::lower_bound(v.begin(), v.end(), c.y() - h_v) - v.begin();
+    const auto j1 = std::upper_bound(v.begin(), v.end(), c.y() + h_v) - v.begin();
+    const int n = nu();
+    for (auto j = j0; j < j1; ++j) {
+      for (auto i = i0; i < i1; ++i) {
+        f(static_cast<int>(i + n * j), Eigen::Vector2d(u[static_cast<std::size_t>(i)], v[static_cast<std::size_t>(j)]));
+      }
+    }
+  }
+};
+
+// An unstructured list of control points in parameter space (tests, small sets); linear-time queries.
+struct ControlPointList {
+  std::vector<double> u, v;  // point k is (u[k], v[k])
+  double cell_u = 0.0, cell_v = 0.0;
+
+  int size() const { return static_cast<int>(u.size()); }
+  Eigen::Vector2d point(int k) const { return {u[static_cast<std::size_t>(k)], v[static_cast<std::size_t>(k)]}; }
+
+  template <class F>
+  void for_each_in_box(const Eigen::Vector2d& c, double h_u, double h_v, F&& f) const {
+    for (int k = 0; k < size(); ++k) {
+      const Eigen::Vector2d p = point(k);
+      if (std::abs(p.x() - c.x()) <= h_u && std::abs(p.y() - c.y()) <= h_v) f(k, p);
+    }
+  }
+};
+
+// Visibility callback for an uncracked patch.
+struct AlwaysVisible {
+  bool operator()(const Eigen::Vector2d&, const Eigen::Vector2d&) const { return true; }
+};
+
+// The C^2 cubic spline weight of thesis Eq. 4.18 (misprint fixed, see DESIGN.md) and its first and
+// second derivatives with respect to r >= 0; zero for r >= 1.
+struct CubicWeight {
+  double w, dw, ddw;
+};
+CubicWeight cubic_weight(double r);
+
+namespace detail {
+
+struct MlsAttempt {
+  MlsStatus status = MlsStatus::ok;
+  int neighbours = 0;
+  double rcond = 0.0;
+};
+
+// Checks the evaluation point, cell sizes and settings; fills out's status on failure.
+bool check_mls_inputs(const Eigen::Vector2d& xi, double cell_u, double cell_v, const MlsSettings& settings,
+                      MlsBasis& out);
+
+// Builds the basis from the visible candidates gathered in out.work at support sizes d_u, d_v.
+// Fills out's result arrays only when the returned status is ok.
+MlsAttempt mls_evaluate(const Eigen::Vector2d& xi, double d_u, double d_v, const MlsSettings& settings,
+                        MlsBasis& out);
+
+// Fills out's status and reason after the attempt at the largest factor failed.
+void report_mls_failure(const Eigen::Vector2d& xi, const MlsAttempt& attempt, const MlsSettings& settings,
+                        MlsBasis& out);
+
+}  // namespace detail
+
+// MLS shape functions at parameter point xi (thesis Eq. 4.15-4.21). Candidates is ControlGrid,
+// ControlPointList or anything with cell_u, cell_v and for_each_in_box. visible(xi, xi_k) must return
+// true when the segment xi -> xi_k does not cross a crack; it is called at most once per candidate.
+// The support factor starts at settings.initial_factor and grows until at least min_neighbours visible
+// control points have weight > 0 and the scaled moment matrix has rcond >= min_rcond; at max_factor
+// failure is reported (out.ok == false, status and reason set, result arrays empty, never NaN).
+// Thread-safe for distinct `out` objects as long as `visible` is.
+template <class Candidates, class Visible>
+bool mls_basis(const Eigen::Vector2d& xi, const Candidates& candidates, Visible&& visible,
+               const MlsSettings& settings, MlsBasis& out) {
+  if (!detail::check_mls_inputs(xi, candidates.cell_u, candidates.cell_v, settings, out)) return false;
+  MlsBasis::Workspace& work = out.work;
+  work.index.clear();
+  work.pu.clear();
+  work.pv.clear();
+
+  double factor = settings.initial_factor;
+  double prev_du = 0.0, prev_dv = 0.0;  // support of the previous attempt: its candidates are already tested
+  for (;;) {
+    const double du = factor * candidates.cell_u;
+    const double dv = factor * candidates.cell_v;
+    // The query box is inflated a little; the exact |offset| < d test below decides membership.
+    candidates.for_each_in_box(xi, du * (1.0 + 1e-12), dv * (1.0 + 1e-12),
+                               [&](int k, const Eigen::Vector2d& xk) {
+                                 const double au = std::abs(xk.x() - xi.x());
+                                 const double av = std::abs(xk.y() - xi.y());
+                                 if (!(au < du && av < dv)) return;
+                                 if (au < prev_du && av < prev_dv) return;
+                                 if (!visible(xi, xk)) return;
+                                 work.index.push_back(k);
+                                 work.pu.push_back(xk.x());
+                                 work.pv.push_back(xk.y());
+                               });
+    out.factor = factor;
+    const detail::MlsAttempt attempt = detail::mls_evaluate(xi, du, dv, settings, out);
+    if (attempt.status == MlsStatus::ok) return true;
+    if (factor >= settings.max_factor) {
+      detail::report_mls_failure(xi, attempt, settings, out);
+      return false;
+    }
+    prev_du = du;
+    prev_dv = dv;
+    factor = std::min(factor * settings.growth, settings.max_factor);
+  }
+}
+
+}  // namespace shellfrac::shell

@@ -1,0 +1,163 @@
+// A shell patch with cracks: MLS bases where the crack cuts a NURBS support (thesis sec. 4.6) and Rankine
+// damage with healing (sec. 4.4.1).
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "crack2d/crack_graph.hpp"
+#include "crack2d/crack_index.hpp"
+#include "nurbs/patch_builders.hpp"
+#include "shell/shell_patch.hpp"
+
+namespace shellfrac::shell {
+namespace {
+
+ShellMaterial material(double E = 1e6, double nu = 0.3, double thickness = 0.01) {
+  ShellMaterial m;
+  m.mu = E / (2 * (1 + nu));
+  m.lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+  m.density = 500;
+  m.thickness = thickness;
+  return m;
+}
+
+double max_norm(const std::vector<Vec3>& f) {
+  double m = 0;
+  for (const auto& v : f) m = std::max(m, v.norm());
+  return m;
+}
+
+// A crack made of one straight polyline in the parameter plane, and its index.
+struct Crack {
+  crack2d::CrackGraph graph;
+  crack2d::CrackIndex index;
+  void add(const Vec2& a, const Vec2& b) {
+    const int i = graph.add_vertex(a), j = graph.add_vertex(b);
+    graph.add_edge(i, j);
+  }
+  size_t commit() {  // returns the first new edge
+    const size_t first = index.num_segments();
+    index.add_edges(graph, first);
+    return first;
+  }
+};
+
+TEST(ShellCracks, CrackedForceIsMinusEnergyGradient) {
+  ShellPatch p(nurbs::flat_patch(1.0, 1.0, 8, 8), material());
+  Crack crack;
+  crack.add(Vec2(0.0, 0.5), Vec2(0.3, 0.52));
+  crack.add(Vec2(0.3, 0.52), Vec2(0.62, 0.47));
+  const CrackUpdate u = p.update_crack(crack.index, crack.commit(), MlsSettings{});
+  EXPECT_GT(u.mls_points, 50u);
+  EXPECT_GT(u.mls_shear, 3u);
+  EXPECT_EQ(u.failures, 0u);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> r(-0.02, 0.02);
+  for (auto& x : p.x) x += Vec3(r(rng), r(rng), r(rng));
+  ASSERT_FALSE(p.compute_forces().failed);
+  const std::vector<Vec3> f = p.force;
+  double worst = 0;
+  for (size_t i = 0; i < p.x.size(); i += 2)
+    for (int c = 0; c < 3; ++c) {
+      const double h = 1e-6, x0 = p.x[i][c];
+      p.x[i][c] = x0 + h;
+      const double ep = p.elastic_energy();
+      p.x[i][c] = x0 - h;
+      const double em = p.elastic_energy();
+      p.x[i][c] = x0;
+      worst = std::max(worst, std::abs(-(ep - em) / (2 * h) - f[i][c]));
+    }
+  EXPECT_LE(worst, 1e-6 * max_norm(f));
+  Vec3 sum = Vec3::Zero();
+  for (const auto& v : f) sum += v;
+  EXPECT_LE(sum.norm(), 1e-11 * max_norm(f) * static_cast<double>(f.size()));
+}
+
+TEST(ShellCracks, MovingOneFragmentRigidlyCostsNoForce) {
+  // A crack right across the patch: translating and rotating the upper fragment's control points is a
+  // rigid motion of that fragment, so no point may feel a force. Without the crack it tears the sheet.
+  const nurbs::NurbsSurface surface = nurbs::flat_patch(1.0, 0.8, 8, 6);
+  ShellPatch cracked(surface, material()), intact(surface, material());
+  Crack crack;
+  crack.add(Vec2(0.0, 0.5), Vec2(1.0, 0.5));
+  cracked.update_crack(crack.index, crack.commit(), MlsSettings{});
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.3, Vec3(0.2, 1.0, 0.4).normalized()).toRotationMatrix();
+  for (ShellPatch* p : {&cracked, &intact})
+    for (size_t k = 0; k < p->x.size(); ++k)
+      if (p->control_parameter(k).y() > 0.5) p->x[k] = R * p->x[k] + Vec3(0.1, 0.3, -0.2);
+  ASSERT_FALSE(cracked.compute_forces().failed);
+  ASSERT_FALSE(intact.compute_forces().failed);
+  EXPECT_GT(max_norm(intact.force), 1.0);
+  EXPECT_LE(max_norm(cracked.force), 1e-10 * max_norm(intact.force));
+  EXPECT_EQ(cracked.num_mls_failures(), 0u);
+}
+
+TEST(ShellCracks, OnlyPointsNearNewSegmentsAreRebuilt) {
+  ShellPatch p(nurbs::flat_patch(1.0, 1.0, 20, 20), material());
+  Crack crack;
+  crack.add(Vec2(0.0, 0.5), Vec2(0.4, 0.5));
+  const CrackUpdate first = p.update_crack(crack.index, crack.commit(), MlsSettings{});
+  crack.add(Vec2(0.8, 0.8), Vec2(0.85, 0.82));
+  const CrackUpdate second = p.update_crack(crack.index, crack.commit(), MlsSettings{});
+  const size_t points = p.num_inplane_points() + p.num_cells();
+  // A 0.05 x 0.02 segment touches supports within 1.5 cells (0.075): about 0.2 x 0.17 of the patch.
+  EXPECT_GT(second.examined, 0u);
+  EXPECT_LE(second.examined, points / 20);
+  EXPECT_GT(first.examined, second.examined);
+  EXPECT_GT(second.mls_points, first.mls_points);
+}
+
+// Uniform biaxial stretch of a flat patch: control points scaled by s in the plane.
+void stretch(ShellPatch& p, const nurbs::NurbsSurface& rest, double s) {
+  for (size_t k = 0; k < p.x.size(); ++k) p.x[k] = s * rest.control_points()[k];
+}
+
+TEST(ShellCracks, DamageWeakensTensionAndHealsUnlessMonotone) {
+  const nurbs::NurbsSurface rest = nurbs::flat_patch(1.0, 1.0, 4, 4);
+  ShellMaterial m = material(1e6, 0.3, 0.01);
+  m.fracture.enabled = true;
+  m.fracture.failure_stress = 5e4;
+  m.brittleness = 0.5;
+  ShellPatch intact(rest, material(1e6, 0.3, 0.01)), healing(rest, m);
+  m.fracture.rule = DamageRule::Monotone;
+  ShellPatch monotone(rest, m);
+  for (ShellPatch* p : {&intact, &healing, &monotone}) {
+    stretch(*p, rest, 1.05);
+    ASSERT_FALSE(p->compute_forces().failed);
+  }
+  // Equibiaxial tension: both principal stresses are tensile, so every force scales by (1 - c).
+  const double c = healing.damage(0, 1);
+  EXPECT_GT(c, 0.05);
+  EXPECT_LT(c, 1.0);
+  for (size_t q = 0; q < healing.num_inplane_points(); ++q) EXPECT_NEAR(healing.damage(q, 1), c, 1e-9);
+  for (size_t k = 0; k < intact.x.size(); ++k)
+    EXPECT_LE((healing.force[k] - (1 - c) * intact.force[k]).norm(), 1e-9 * max_norm(intact.force));
+  // The effective stress is the undamaged one: c follows Eq. 2.28 with H = 0.5, i.e.
+  // sigma_bar = sigma_f / (1 - c / (1 + H)).
+  const double sigma_bar = 5e4 / (1.0 - c / 1.5);
+  EXPECT_GT(sigma_bar, 5e4);
+  // Unloading: healing damage returns to 0 while its history stays; monotone damage stays.
+  for (ShellPatch* p : {&healing, &monotone}) {
+    stretch(*p, rest, 1.0);
+    ASSERT_FALSE(p->compute_forces().failed);
+  }
+  EXPECT_EQ(healing.damage(0, 1), 0.0);
+  EXPECT_NEAR(healing.damage_history(0, 1), c, 1e-15);
+  EXPECT_NEAR(monotone.damage(0, 1), c, 1e-15);
+  // Reloading: the healed material is as stiff as before, the monotone one stays weakened.
+  for (ShellPatch* p : {&healing, &monotone}) {
+    stretch(*p, rest, 1.02);
+    ASSERT_FALSE(p->compute_forces().failed);
+  }
+  stretch(intact, rest, 1.02);
+  ASSERT_FALSE(intact.compute_forces().failed);
+  const double scale = max_norm(intact.force);
+  EXPECT_GT(scale, 1.0);
+  for (size_t k = 0; k < intact.x.size(); ++k) {
+    EXPECT_LE((healing.force[k] - intact.force[k]).norm(), 1e-9 * scale);
+    EXPECT_LE((monotone.force[k] - (1 - c) * intact.force[k]).norm(), 1e-9 * scale);
+  }
+}
+
+}  // namespace
+}  // namespace shellfrac::shell
