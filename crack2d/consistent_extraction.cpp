@@ -25,6 +25,7 @@ constexpr double kLinkRadius = 0.75;         // old crack vertices join Voronoi 
 constexpr double kMaxBridgeLength = 6.0;     // longest Voronoi path accepted as a bridge
 constexpr double kExtensionStep = 0.25;      // march step of a tip extension
 constexpr double kExtensionPiece = 0.5;      // longest segment of a tip extension
+constexpr double kEdgeLigament = 4.0;        // longest damaged ligament from an old tip to the edge
 constexpr double kMinFragment = 1.5;         // shorter isolated medial pieces are noise; shorter tips are not extended
 constexpr double kTipDirectionLength = 3.0;  // crack length behind a tip that sets the extension direction
 
@@ -401,7 +402,9 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
   }
   index_.add_edges(graph_, old_edges);
 
-  // 5. Extend new tips straight through the remaining damaged region (clipped to the domain).
+  // 5. Extend new tips straight through the remaining damaged region (clipped to the domain). An older
+  //    tip is extended only when a short, fully damaged ligament joins it to the patch edge: the band
+  //    often reaches the edge after its tip was extracted, and no new medial line forms there.
   const std::vector<Point> boundary_points = [&] {
     std::vector<Point> pts;
     for (const Seed& s : seeds)
@@ -410,8 +413,9 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
   }();
   const SampleGrid seed_grid(boundary_points, 2.0 * h);
   const size_t vertices_before_extension = graph_.num_vertices();
-  for (size_t v = old_vertices; v < vertices_before_extension; ++v) {
+  for (size_t v = 0; v < vertices_before_extension; ++v) {
     const int tip = static_cast<int>(v);
+    const bool old_tip = v < old_vertices;
     if (graph_.degree(tip) != 1) continue;
     const Point p = graph_.vertices()[tip];
     if (on_domain_boundary(p, domain_, weld)) continue;
@@ -421,7 +425,7 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
     const Point dir = (p - from).normalized();
     const int nearest_seed = seed_grid.nearest(p, 10.0 * h);
     const double radius = nearest_seed >= 0 ? (boundary_points[nearest_seed] - p).norm() : 0.0;
-    const double max_length = 1.5 * radius + h;
+    const double max_length = old_tip ? kEdgeLigament * h : 1.5 * radius + h;
     double reached = 0.0;
     bool hit_edge = false;
     for (double t = kExtensionStep * h; t <= max_length + 1e-12; t += kExtensionStep * h) {
@@ -438,7 +442,7 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
         break;
       }
     }
-    if (reached <= 0.0) continue;
+    if (reached <= 0.0 || (old_tip && !hit_edge)) continue;
     const int pieces = std::max(1, static_cast<int>(std::ceil(reached / (kExtensionPiece * h))));
     int last = tip;
     for (int k = 1; k <= pieces; ++k) {

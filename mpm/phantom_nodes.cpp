@@ -15,9 +15,6 @@ namespace {
 
 struct NodeParticle {
   uint32_t node, set, particle, stencil;  // stencil entry i + 3 j + 9 k of the node for this particle
-  bool operator<(const NodeParticle& o) const {
-    return std::tie(node, set, particle) < std::tie(o.node, o.set, o.particle);
-  }
 };
 
 int find_root(std::vector<int>& parent, int i) {
@@ -46,10 +43,18 @@ PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<Particle
   }
   if (!any) return layout;
 
-  // 2. Every (node, particle) pair at a flagged node, in a deterministic order.
-  std::vector<NodeParticle> pairs;
+  // 2. Every (node, particle) pair at a flagged node, bucketed by node with a counting sort (flagged
+  //    nodes in index order, particles in (set, index) order inside a node): deterministic, O(pairs).
+  std::vector<int32_t> node_slot(flagged.size(), -1);
+  std::vector<uint32_t> slot_node;
+  for (size_t n = 0; n < flagged.size(); ++n)
+    if (flagged[n]) {
+      node_slot[n] = static_cast<int32_t>(slot_node.size());
+      slot_node.push_back(static_cast<uint32_t>(n));
+    }
   std::vector<std::array<uint32_t, 27>> stencils;  // of particles that reach a flagged node
   std::vector<std::vector<int32_t>> touching(sets.size());
+  std::vector<uint32_t> slot_count(slot_node.size() + 1, 0);
   for (size_t s = 0; s < sets.size(); ++s) {
     touching[s].assign(sets[s].count, -1);
     std::vector<std::array<uint32_t, 27>> st(sets[s].count);
@@ -65,47 +70,66 @@ PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<Particle
       if (!hit[p]) continue;
       touching[s][p] = static_cast<int32_t>(stencils.size());
       stencils.push_back(st[p]);
-      for (uint32_t k = 0; k < 27; ++k)
-        if (flagged[st[p][k]]) pairs.push_back({st[p][k], static_cast<uint32_t>(s), static_cast<uint32_t>(p), k});
+      for (uint32_t n : st[p])
+        if (flagged[n]) ++slot_count[static_cast<size_t>(node_slot[n]) + 1];
     }
   }
-  std::sort(pairs.begin(), pairs.end());
+  for (size_t k = 0; k + 1 < slot_count.size(); ++k) slot_count[k + 1] += slot_count[k];
+  std::vector<NodeParticle> pairs(slot_count.back());
+  {
+    std::vector<uint32_t> cursor(slot_count.begin(), slot_count.end() - 1);
+    for (size_t s = 0; s < sets.size(); ++s)
+      for (size_t p = 0; p < sets[s].count; ++p) {
+        if (touching[s][p] < 0) continue;
+        const auto& st = stencils[static_cast<size_t>(touching[s][p])];
+        for (uint32_t k = 0; k < 27; ++k)
+          if (flagged[st[k]])
+            pairs[cursor[static_cast<size_t>(node_slot[st[k]])]++] = {st[k], static_cast<uint32_t>(s), static_cast<uint32_t>(p), k};
+      }
+  }
 
-  // 3. Components per node; a node with two or more gets one copy per component.
-  std::vector<int32_t> pair_copy(pairs.size(), -1);
-  std::vector<int> parent, component_copy;
-  for (size_t begin = 0; begin < pairs.size();) {
-    size_t end = begin;
-    while (end < pairs.size() && pairs[end].node == pairs[begin].node) ++end;
-    const int n = static_cast<int>(end - begin);
-    parent.resize(static_cast<size_t>(n));
-    std::iota(parent.begin(), parent.end(), 0);
-    for (int a = 0; a < n; ++a)
-      for (int b = a + 1; b < n; ++b) {
-        const int ra = find_root(parent, a), rb = find_root(parent, b);
-        if (ra == rb) continue;
-        const NodeParticle &pa = pairs[begin + static_cast<size_t>(a)], &pb = pairs[begin + static_cast<size_t>(b)];
-        if (connected(pa.set, pa.particle, pb.set, pb.particle)) parent[static_cast<size_t>(std::max(ra, rb))] = std::min(ra, rb);
-      }
-    // Number the components by their first member (roots are the smallest members).
-    component_copy.assign(static_cast<size_t>(n), -1);
-    int components = 0;
-    for (int a = 0; a < n; ++a)
-      if (find_root(parent, a) == a) ++components;
-    if (components >= 2) {
-      ++layout.split_nodes;
-      for (int a = 0; a < n; ++a) {
-        const int r = find_root(parent, a);
-        if (component_copy[static_cast<size_t>(r)] < 0) {
-          component_copy[static_cast<size_t>(r)] = static_cast<int>(layout.copy_parent.size());
-          layout.copy_parent.push_back(pairs[begin].node);
-          const NodeParticle& first = pairs[begin + static_cast<size_t>(a)];
-          layout.copy_kind.push_back(first.set < roles.size() ? roles[first.set].kind : FieldKind::Shell);
+  // 3. Components per node (in parallel: nodes are independent). component[i] numbers the components
+  //    of pair i's node by first member; a node with two or more gets one copy per component.
+  std::vector<int32_t> component(pairs.size(), 0);
+  std::vector<int32_t> components(slot_node.size(), 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, slot_node.size(), 8), [&](const tbb::blocked_range<size_t>& r) {
+    std::vector<int> parent, label;
+    for (size_t slot = r.begin(); slot != r.end(); ++slot) {
+      const size_t begin = slot_count[slot];
+      const int n = static_cast<int>(slot_count[slot + 1] - begin);
+      parent.resize(static_cast<size_t>(n));
+      std::iota(parent.begin(), parent.end(), 0);
+      for (int a = 0; a < n; ++a)
+        for (int b = a + 1; b < n; ++b) {
+          const int ra = find_root(parent, a), rb = find_root(parent, b);
+          if (ra == rb) continue;
+          const NodeParticle &pa = pairs[begin + static_cast<size_t>(a)], &pb = pairs[begin + static_cast<size_t>(b)];
+          if (connected(pa.set, pa.particle, pb.set, pb.particle)) parent[static_cast<size_t>(std::max(ra, rb))] = std::min(ra, rb);
         }
-        pair_copy[begin + static_cast<size_t>(a)] = component_copy[static_cast<size_t>(r)];
+      label.assign(static_cast<size_t>(n), -1);
+      int count = 0;
+      for (int a = 0; a < n; ++a) {
+        const int root = find_root(parent, a);  // roots are the smallest members: first-member order
+        if (label[static_cast<size_t>(root)] < 0) label[static_cast<size_t>(root)] = count++;
+        component[begin + static_cast<size_t>(a)] = label[static_cast<size_t>(root)];
       }
+      components[slot] = count;
     }
-    begin = end;
+  });
+  std::vector<int32_t> pair_copy(pairs.size(), -1);
+  for (size_t slot = 0; slot < slot_node.size(); ++slot) {
+    if (components[slot] < 2) continue;
+    ++layout.split_nodes;
+    const auto first_copy = static_cast<int32_t>(layout.copy_parent.size());
+    for (int32_t c = 0; c < components[slot]; ++c) {
+      layout.copy_parent.push_back(slot_node[slot]);
+      layout.copy_kind.push_back(FieldKind::Shell);
+    }
+    for (size_t i = slot_count[slot]; i < slot_count[slot + 1]; ++i) {
+      pair_copy[i] = first_copy + component[i];
+      const uint32_t set = pairs[i].set;
+      layout.copy_kind[static_cast<size_t>(pair_copy[i])] = set < roles.size() ? roles[set].kind : FieldKind::Shell;
+    }
   }
   if (layout.copy_parent.empty()) return layout;
 

@@ -36,7 +36,15 @@ bool ShellPatch::build_mls(const Vec2& xi, const crack2d::CrackIndex& index, con
                            MlsBasis& work, MlsSupport& out) const {
   // A control point is in the support only if the segment to it crosses no crack (thesis sec. 4.6).
   auto visible = [&](const Vec2& a, const Vec2& b) { return !index.crosses(a, b); };
-  if (!mls_basis(xi, control_grid_, visible, settings, work)) return false;
+  if (!mls_basis(xi, control_grid_, visible, settings, work)) {
+    // Pockets between crack branches can leave a point only a few, nearly aligned, visible control points.
+    // Dropping it loses material, so accept a less accurate fit first: 6 points (the quadratic basis
+    // size) and a moment matrix far from singular (rcond 1e-9); only then give up.
+    MlsSettings relaxed = settings;
+    relaxed.min_neighbours = 6;
+    relaxed.min_rcond = std::min(settings.min_rcond, 1e-9);
+    if (!mls_basis(xi, control_grid_, visible, relaxed, work)) return false;
+  }
   const size_t n = work.index.size();
   out.index.assign(work.index.begin(), work.index.end());
   out.basis.resize(n * kBasisStride);

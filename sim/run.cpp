@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "render_mesh/atomic_write.hpp"
+#include "render_mesh/cracked_tessellation.hpp"
 #include "render_mesh/exporter.hpp"
 #include "sim/progress.hpp"
 #include "sim/scene_error.hpp"
@@ -72,6 +73,8 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options, std::ost
   auto write_frame = [&](int f) {
     auto scope = output_timer.time("output");
     const auto meshes = sim.render_meshes();
+    fragments = 0;
+    for (size_t i = 0; i < scene.shells.size(); ++i) fragments += render_mesh::count_components(meshes[i]);
     penetration = std::max(penetration, sim.collider_penetration(meshes));
     const fs::path written = render_mesh::export_meshes(meshes, frames_dir, frame_stem(f), scene.output.format);
     frames.push_back(fs::relative(written, options.out_dir).string());

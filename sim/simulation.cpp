@@ -6,6 +6,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "render_mesh/cracked_tessellation.hpp"
 #include "render_mesh/surface_tessellation.hpp"
 #include "sim/scene_error.hpp"
 
@@ -336,10 +337,33 @@ Eigen::Vector3d Simulation::linear_momentum() const {
 
 std::vector<render_mesh::PolyMesh> Simulation::render_meshes() const {
   std::vector<render_mesh::PolyMesh> meshes(patches_.size());
-  tbb::parallel_for(size_t{0}, patches_.size(), [&](size_t i) {
-    meshes[i] = render_mesh::tessellate(patches_[i].current_surface(), scene_.output.resolution_u,
-                                        scene_.output.resolution_v, scene_.shells[i].name);
-  });
+  for (size_t i = 0; i < patches_.size(); ++i) {
+    const crack2d::CrackGraph* graph = crack_graph(i);
+    if (!graph || graph->empty()) {
+      meshes[i] = render_mesh::tessellate(patches_[i].current_surface(), scene_.output.resolution_u,
+                                          scene_.output.resolution_v, scene_.shells[i].name);
+      continue;
+    }
+    // Cracked patch (thesis sec. 4.9, Algorithm 5): split the R x S grid along the crack, give each side
+    // its own shadow vertices, and place them with MLS near the crack and NURBS elsewhere.
+    const nurbs::NurbsSurface& ref = patches_[i].reference();
+    const render_mesh::ParameterDomain domain{ref.knots_u().domain_begin(), ref.knots_u().domain_end(),
+                                              ref.knots_v().domain_begin(), ref.knots_v().domain_end()};
+    std::vector<render_mesh::CrackSegment2> segments;
+    for (size_t e = 0; e < graph->num_edges(); ++e) segments.push_back({graph->segment(e).a, graph->segment(e).b});
+    render_mesh::CrackedTessellationSettings settings;
+    settings.resolution_u = scene_.output.resolution_u;
+    settings.resolution_v = scene_.output.resolution_v;
+    settings.shadow_offset = scene_.cracks.shadow_offset;
+    const render_mesh::ParameterMesh mesh = render_mesh::separate_crack_vertices(
+        render_mesh::split_parameter_grid(domain, segments, settings), settings.shadow_offset);
+    std::vector<Eigen::Vector3d> positions(mesh.uv.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.uv.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+      shell::MlsBasis work;
+      for (size_t k = r.begin(); k != r.end(); ++k) positions[k] = patches_[i].position_at(mesh.uv[k], work);
+    });
+    meshes[i] = render_mesh::assemble_render_mesh(mesh, domain, std::move(positions), {}, scene_.shells[i].name);
+  }
   // Solids as point clouds (one point primitive per particle).
   for (size_t i = 0; i < solids_.size(); ++i) {
     render_mesh::PolyMesh cloud;

@@ -1,0 +1,182 @@
+// Fracture in whole simulations: consistent mode-I tearing, no lost area, fragments that separate with
+// phantom nodes and glue without them, and contact between fragments (thesis sec. 4.4-4.7, 4.9).
+#include <gtest/gtest.h>
+
+#include "render_mesh/cracked_tessellation.hpp"
+#include "sim/scene.hpp"
+#include "sim/simulation.hpp"
+
+namespace shellfrac::sim {
+namespace {
+
+// Total world-space area of a polygon mesh (fan triangulation of each face).
+double mesh_area(const render_mesh::PolyMesh& m) {
+  double a = 0;
+  for (int f = 0; f < m.num_faces(); ++f) {
+    const int b = m.face_offsets[static_cast<size_t>(f)], e = m.face_offsets[static_cast<size_t>(f) + 1];
+    const Eigen::Vector3d& o = m.positions[static_cast<size_t>(m.face_vertices[static_cast<size_t>(b)])];
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    for (int k = b + 1; k + 1 < e; ++k)
+      n += (m.positions[static_cast<size_t>(m.face_vertices[static_cast<size_t>(k)])] - o)
+               .cross(m.positions[static_cast<size_t>(m.face_vertices[static_cast<size_t>(k) + 1])] - o);
+    a += 0.5 * n.norm();
+  }
+  return a;
+}
+
+// A 1 m^2 sheet in the xy plane with a notch at v = 0.5 from the left edge; the bottom edge is held and
+// the top edge pulled up by 0.15 m over 0.6 s, then held while the fragments relax (thesis Fig. 4.10,
+// 4.19a). The rows next to the pins are reinforced so that the sheet tears at the notch, not at the pins.
+std::string tear_scene(const std::string& material_extra, const std::string& scene_extra = "") {
+  return R"({"name": "tear", "gravity": [0, 0, 0], "damping": 4.0,
+    "shells": [{"name": "sheet", "patch": {"type": "flat", "size": [1.0, 1.0], "cells": [16, 16]},
+      "thickness": 0.002,
+      "material": {"E": 5e5, "nu": 0.3, "density": 500)" + material_extra + R"(,
+        "fracture": {"failure_stress": 2e4, "fracture_energy": 60,
+          "regions": [{"polygon": [[0, 0], [1, 0], [1, 0.12], [0, 0.12]], "failure_stress": 1e7},
+                      {"polygon": [[0, 0.88], [1, 0.88], [1, 1], [0, 1]], "failure_stress": 1e7}]}},
+      "cuts": [{"points": [[0.0, 0.5], [0.2, 0.5]]}]}],
+    "pins": [{"shell": "sheet", "region": {"v": [0.0, 0.02]}},
+             {"shell": "sheet", "region": {"v": [0.98, 1.0]},
+              "motion": {"keyframes": [{"time": 0, "translation": [0, 0, 0]},
+                                       {"time": 0.6, "translation": [0, 0.15, 0]}]}}])" +
+         scene_extra + "}";
+}
+
+TEST(Fracture, ModeOneTearIsStraightConsistentAndKeepsItsArea) {
+  Simulation sim(parse_scene(tear_scene(""), "tear.json"));
+  sim.advance_to(1.2);
+  const CrackStats& st = sim.crack_stats();
+  EXPECT_GT(st.extractions, 50);
+  EXPECT_EQ(st.subset_violations, 0u);  // every extraction contains the previous crack exactly
+  const crack2d::CrackGraph& g = *sim.crack_graph(0);
+  double u_max = 0, v_dev = 0;
+  for (const auto& v : g.vertices()) {
+    u_max = std::max(u_max, v.x());
+    v_dev = std::max(v_dev, std::abs(v.y() - 0.5));
+  }
+  EXPECT_GE(u_max, 1.0 - 1e-9);          // torn right through
+  EXPECT_LE(v_dev, 2.0 / 16.0);          // within two cells of the straight line
+  const auto meshes = sim.render_meshes();
+  EXPECT_EQ(render_mesh::count_components(meshes[0]), 2);
+  // After tearing, the relaxed fragments keep the sheet's area (the thesis reports 0.994 m^2 for its
+  // stress, 0.668 m^2 for a 2D deformation gradient). Measured here: 1.011 m^2; the excess is damaged
+  // material beside the crack that stays stretched (its tensile stress is fully weakened).
+  const double area = mesh_area(meshes[0]);
+  EXPECT_GE(area, 0.99);
+  EXPECT_LE(area, 1.02);
+}
+
+// A 0.4 x 0.2 m sheet cut through at u = 0.5; the halves get opposite x velocities.
+std::string cut_sheet_scene(bool phantom_nodes) {
+  return std::string(R"({"name": "cut", "gravity": [0, 0, 0],
+    "shells": [{"name": "sheet", "patch": {"type": "flat", "size": [0.4, 0.2], "cells": [16, 8]},
+      "thickness": 0.001, "material": {"E": 1e5, "nu": 0.3, "density": 200},
+      "cuts": [{"points": [[0.5, 0.0], [0.5, 1.0]]}]}],
+    "cracks": {"contact_friction": 0.0, "phantom_nodes": )") +
+         (phantom_nodes ? "true" : "false") + "}}";
+}
+
+struct Halves {
+  double left_mean, right_mean, left_max, right_min;
+};
+
+Halves halves(const shell::ShellPatch& p) {
+  Halves h{0, 0, -1e9, 1e9};
+  int nl = 0, nr = 0;
+  for (size_t k = 0; k < p.x.size(); ++k) {
+    if (p.control_parameter(k).x() < 0.5) {
+      h.left_mean += p.x[k].x();
+      h.left_max = std::max(h.left_max, p.x[k].x());
+      ++nl;
+    } else {
+      h.right_mean += p.x[k].x();
+      h.right_min = std::min(h.right_min, p.x[k].x());
+      ++nr;
+    }
+  }
+  h.left_mean /= nl;
+  h.right_mean /= nr;
+  return h;
+}
+
+void set_half_velocities(shell::ShellPatch& p, double vx) {
+  for (size_t k = 0; k < p.x.size(); ++k) p.v[k] = Eigen::Vector3d(p.control_parameter(k).x() < 0.5 ? -vx : vx, 0, 0);
+  for (size_t c = 0; c < p.shear.x.size(); ++c)
+    p.shear.v[c] = Eigen::Vector3d(p.shear_parameter(c).x() < 0.5 ? -vx : vx, 0, 0);
+}
+
+TEST(Fracture, PhantomNodesLetFragmentsSeparateASingleFieldGluesThem) {
+  double opened[2];
+  for (int phantom = 0; phantom < 2; ++phantom) {
+    Simulation sim(parse_scene(cut_sheet_scene(phantom == 1), "cut.json"));
+    auto& p = sim.patches()[0];
+    EXPECT_GT(p.num_mls_points(), 0u);
+    set_half_velocities(p, 0.5);
+    const Halves before = halves(p);
+    sim.advance_to(0.1);
+    const Halves after = halves(p);
+    opened[phantom] = (after.right_mean - after.left_mean) - (before.right_mean - before.left_mean);
+  }
+  // Free flight apart at 1 m/s relative speed for 0.1 s opens 0.1 m; a shared velocity field ties the
+  // crack faces together and the halves stop within an elastic wave transit (0.2 m / 22 m/s).
+  EXPECT_NEAR(opened[1], 0.1, 0.01);
+  EXPECT_LT(opened[0], 0.02);
+}
+
+TEST(Fracture, FragmentsPressedTogetherDoNotInterpenetrate) {
+  Simulation sim(parse_scene(cut_sheet_scene(true), "cut.json"));
+  auto& p = sim.patches()[0];
+  set_half_velocities(p, -0.5);  // towards each other at 1 m/s: 0.05 m of overlap in 0.05 s if unchecked
+  const Eigen::Vector3d momentum = sim.linear_momentum();
+  const Halves before = halves(p);
+  EXPECT_NEAR(before.right_min - before.left_max, 0.025, 1e-12);  // nearest control points across the cut
+  sim.advance_to(0.05);
+  const Halves after = halves(p);
+  EXPECT_GE(after.right_min - after.left_max, -0.5 * sim.dx());
+  EXPECT_GT(sim.crack_stats().contact_pairs, 0u);
+  EXPECT_LE((sim.linear_momentum() - momentum).norm(), 1e-10);  // contact forces are equal and opposite
+}
+
+TEST(Fracture, ShapeCutOutOfAHangingClothFallsAway) {
+  // Thesis Fig. 4.14: a shape cut out of a cloth falls away under gravity. The cloth hangs level from
+  // its four edges, so the shape drops out of the plane (a vertical cloth would hold the shape on the
+  // hole's lower edge: the fragments are coplanar and in-plane contact is real contact).
+  Simulation sim(parse_scene(R"({"name": "cutout", "gravity": [0, -9.81, 0],
+    "shells": [{"name": "cloth", "patch": {"type": "flat", "size": [0.6, 0.6], "cells": [12, 12],
+                "origin": [0, 1, 0], "axis_u": [1, 0, 0], "axis_v": [0, 0, 1]},
+      "thickness": 0.0005, "material": {"E": 1e5, "nu": 0.3, "density": 200},
+      "cuts": [{"closed": true, "points": [[0.3, 0.3], [0.7, 0.3], [0.7, 0.7], [0.35, 0.6], [0.3, 0.7]]}]}],
+    "pins": [{"shell": "cloth", "region": {"v": [0.0, 0.02]}}, {"shell": "cloth", "region": {"v": [0.98, 1.0]}},
+             {"shell": "cloth", "region": {"u": [0.0, 0.02]}}, {"shell": "cloth", "region": {"u": [0.98, 1.0]}}]})",
+                             "cutout.json"));
+  auto& p = sim.patches()[0];
+  const std::vector<Eigen::Vector2d> shape{{0.3, 0.3}, {0.7, 0.3}, {0.7, 0.7}, {0.35, 0.6}, {0.3, 0.7}};
+  auto inside = [&](const Eigen::Vector2d& q) {  // crossing-number test
+    bool in = false;
+    for (size_t i = 0, j = shape.size() - 1; i < shape.size(); j = i++)
+      if ((shape[i].y() > q.y()) != (shape[j].y() > q.y()) &&
+          q.x() < shape[i].x() + (q.y() - shape[i].y()) * (shape[j].x() - shape[i].x()) / (shape[j].y() - shape[i].y()))
+        in = !in;
+    return in;
+  };
+  auto inner_centre = [&] {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    double m = 0;
+    for (size_t k = 0; k < p.x.size(); ++k) {
+      if (inside(p.control_parameter(k))) {
+        c += p.mass[k] * p.x[k];
+        m += p.mass[k];
+      }
+    }
+    return Eigen::Vector3d(c / m);
+  };
+  const double y0 = inner_centre().y();
+  sim.advance_to(1.0);
+  const double fall = y0 - inner_centre().y();
+  EXPECT_GE(fall, 0.8 * 0.5 * 9.81);  // at least 80% of free fall in 1 s
+  EXPECT_EQ(render_mesh::count_components(sim.render_meshes()[0]), 2);  // the shape and the cloth: no glue
+}
+
+}  // namespace
+}  // namespace shellfrac::sim
