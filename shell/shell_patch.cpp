@@ -39,6 +39,7 @@ ShellPatch::ShellPatch(const nurbs::NurbsSurface& reference, const ShellMaterial
     damage_.assign(ref_.size(), 0.0);
     damage_history_.assign(ref_.size(), 0.0);
     failure_stress_.assign(param_.size(), material_.fracture.failure_stress);
+    brittleness_.assign(param_.size(), material_.brittleness);
   }
 }
 
@@ -316,6 +317,10 @@ ForceFailure ShellPatch::compute_forces() {
 }
 
 bool ShellPatch::add_shear_force(size_t c) {
+  if (shear_slot_[c] == kMlsFailed) {  // singular MLS support near a crack: dropped and reported
+    shear.stress[c].setZero();
+    return true;
+  }
   const BasisView b = shear_basis(c);
   Vec3 a1, a2;
   shear_particle_frame(c, a1, a2);
@@ -342,7 +347,7 @@ InPlaneTensor ShellPatch::damaged_stress(const InPlaneTensor& tau, const Vec3& g
   // Effective stress: the largest principal in-plane Cauchy stress of the undamaged trial state
   // (thesis sec. 4.4.1; the transverse principal value is 0, so it is at least 0).
   const double effective = std::max(0.0, largest_principal(tau, g1, g2)) / detF;
-  double c = rankine_damage(effective, failure_stress_[q], material_.brittleness);  // thesis Eq. 2.28
+  double c = rankine_damage(effective, failure_stress_[q], brittleness_[q]);  // thesis Eq. 2.28
   if (monotone) c = std::max(c, damage_[ql]);  // conventional rule, kept for comparison
   damage_[ql] = c;                              // healing rule: c^{n+1} = cbar
   damage_history_[ql] = std::max(damage_history_[ql], c);

@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Core>
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -115,11 +116,20 @@ class ShellPatch {
 
   // Fracture state of the Type IV points (thesis sec. 4.4.1), present only when material.fracture is on.
   bool fractures() const { return !damage_.empty(); }
-  // Failure stress sigma_f of in-plane point q (all layers); scene regions override the material value.
+  // Failure stress sigma_f and brittleness H (thesis Eq. 2.28) of in-plane point q (all layers). H depends
+  // on sigma_f and on the grid's characteristic length, so the caller computes both; scene regions
+  // override the material values point by point.
   double failure_stress(size_t q) const { return failure_stress_[q]; }
-  void set_failure_stress(size_t q, double sigma_f) { failure_stress_[q] = sigma_f; }
-  // Brittleness H of thesis Eq. 2.28; it depends on the grid's characteristic length, known to the caller.
-  void set_brittleness(double h) { material_.brittleness = h; }
+  double brittleness(size_t q) const { return brittleness_[q]; }
+  void set_failure_stress(size_t q, double sigma_f, double brittleness) {
+    failure_stress_[q] = sigma_f;
+    brittleness_[q] = brittleness;
+  }
+  // Sets the material's brittleness at every point (before regions override it).
+  void set_brittleness(double h) {
+    material_.brittleness = h;
+    std::fill(brittleness_.begin(), brittleness_.end(), h);
+  }
   // Parameter coordinates of all in-plane points (the crack extraction's samples).
   const std::vector<Vec2>& inplane_parameters() const { return param_; }
   // Typical spacing of the in-plane points in parameter space.
@@ -190,9 +200,11 @@ class ShellPatch {
     std::vector<Vec3> force;
     double reach = 1.5;  // support half-width in cells (the MLS factor)
   };
+  // MLS fit at xi over the control points visible from it (thesis sec. 4.6), with the relaxed retry;
+  // false when even that stays singular.
+  bool fit_mls(const Vec2& xi, const crack2d::CrackIndex& index, MlsBasis& work) const;
   // Computes the MLS basis at xi over visible control points; false when it stays singular.
-  bool build_mls(const Vec2& xi, const crack2d::CrackIndex& index, const MlsSettings& settings, MlsBasis& work,
-                 MlsSupport& out) const;
+  bool build_mls(const Vec2& xi, const crack2d::CrackIndex& index, MlsBasis& work, MlsSupport& out) const;
   // True when the crack separates xi from any control point of the NURBS support of `cell`.
   bool nurbs_support_cut(const Vec2& xi, size_t cell, const crack2d::CrackIndex& index) const;
   void rebuild_mls_gather();
@@ -215,10 +227,11 @@ class ShellPatch {
   std::vector<double> plastic_strain_;  // in-plane points x layers, only for plastic materials
   std::vector<double> volume_;      // in-plane points x layers: V_q
   std::vector<double> damage_, damage_history_;  // in-plane points x layers, only for fracturing materials
-  std::vector<double> failure_stress_;           // in-plane points, only for fracturing materials
+  std::vector<double> failure_stress_, brittleness_;  // in-plane points, only for fracturing materials
   // Crack state (thesis sec. 4.6): MLS supports of the points the crack separates from their NURBS
   // support; slot -1 = NURBS basis, -2 = MLS failed (the point is dropped and reported).
   const crack2d::CrackIndex* crack_ = nullptr;
+  MlsSettings mls_settings_;  // from the last update_crack
   ControlGrid control_grid_;
   std::vector<int32_t> point_slot_, shear_slot_;
   std::vector<MlsSupport> slots_;

@@ -32,19 +32,21 @@ bool ShellPatch::nurbs_support_cut(const Vec2& xi, size_t cell, const crack2d::C
   return false;
 }
 
-bool ShellPatch::build_mls(const Vec2& xi, const crack2d::CrackIndex& index, const MlsSettings& settings,
-                           MlsBasis& work, MlsSupport& out) const {
+bool ShellPatch::fit_mls(const Vec2& xi, const crack2d::CrackIndex& index, MlsBasis& work) const {
   // A control point is in the support only if the segment to it crosses no crack (thesis sec. 4.6).
   auto visible = [&](const Vec2& a, const Vec2& b) { return !index.crosses(a, b); };
-  if (!mls_basis(xi, control_grid_, visible, settings, work)) {
-    // Pockets between crack branches can leave a point only a few, nearly aligned, visible control points.
-    // Dropping it loses material, so accept a less accurate fit first: 6 points (the quadratic basis
-    // size) and a moment matrix far from singular (rcond 1e-9); only then give up.
-    MlsSettings relaxed = settings;
-    relaxed.min_neighbours = 6;
-    relaxed.min_rcond = std::min(settings.min_rcond, 1e-9);
-    if (!mls_basis(xi, control_grid_, visible, relaxed, work)) return false;
-  }
+  if (mls_basis(xi, control_grid_, visible, mls_settings_, work)) return true;
+  // Pockets between crack branches can leave a point only a few, nearly aligned, visible control points.
+  // Dropping it loses material, so accept a less accurate fit first: 6 points (the quadratic basis
+  // size) and a moment matrix far from singular (rcond 1e-9); only then give up.
+  MlsSettings relaxed = mls_settings_;
+  relaxed.min_neighbours = 6;
+  relaxed.min_rcond = std::min(mls_settings_.min_rcond, 1e-9);
+  return mls_basis(xi, control_grid_, visible, relaxed, work);
+}
+
+bool ShellPatch::build_mls(const Vec2& xi, const crack2d::CrackIndex& index, MlsBasis& work, MlsSupport& out) const {
+  if (!fit_mls(xi, index, work)) return false;
   const size_t n = work.index.size();
   out.index.assign(work.index.begin(), work.index.end());
   out.basis.resize(n * kBasisStride);
@@ -64,6 +66,7 @@ bool ShellPatch::build_mls(const Vec2& xi, const crack2d::CrackIndex& index, con
 CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t first_new_edge,
                                      const MlsSettings& settings) {
   crack_ = &index;
+  mls_settings_ = settings;
   CrackUpdate report;
   const double lu = control_grid_.cell_u, lv = control_grid_.cell_v;
   // Parameter points: in-plane points first, then shear particles (cell centres).
@@ -86,7 +89,7 @@ CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t fi
         res.kind = PointResult::Nurbs;
         continue;
       }
-      if (build_mls(xi, index, settings, work, support_out)) {
+      if (build_mls(xi, index, work, support_out)) {
         res.kind = PointResult::Mls;
         res.index = support_out.index;
         res.basis = support_out.basis;
@@ -108,12 +111,9 @@ CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t fi
     int32_t& slot = is_shear ? shear_slot_[id] : point_slot_[id];
     if (res.kind == PointResult::Nurbs) continue;  // the crack passes by without cutting its support
     if (res.kind == PointResult::Failed) {
-      if (slot != kMlsFailed) {
-        ++num_mls_failures_;
-        if (report.first_failure.empty())
-          report.first_failure = (is_shear ? "shear particle " : "quadrature point ") + std::to_string(id) + ": " + res.reason;
-      }
-      slot = kMlsFailed;
+      if (report.first_failure.empty())
+        report.first_failure = (is_shear ? "shear particle " : "quadrature point ") + std::to_string(id) + ": " + res.reason;
+      slot = kMlsFailed;  // its MLS slot, if any, stays allocated but unused
       continue;
     }
     if (slot < 0) {
@@ -126,6 +126,10 @@ CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t fi
     m.force.assign(m.index.size(), Vec3::Zero());
     m.reach = res.reach;
   }
+  // Points whose support is singular now (a point can recover when the crack around it grows).
+  num_mls_failures_ = 0;
+  for (int32_t sl : point_slot_) num_mls_failures_ += sl == kMlsFailed;
+  for (int32_t sl : shear_slot_) num_mls_failures_ += sl == kMlsFailed;
   report.failures = num_mls_failures_;
   rebuild_mls_gather();
   for (int32_t s : point_slot_) report.mls_points += s >= 0;
@@ -149,7 +153,7 @@ void ShellPatch::rebuild_mls_gather() {
       mls_gather_[static_cast<size_t>(cursor[k]++)] = {static_cast<int>(s), static_cast<int>(e)};
       control_near_crack_[k] = 1;
     }
-  for (size_t c = 0; c < num_cells_; ++c) shear_near_crack_[c] = shear_slot_[c] >= 0;
+  for (size_t c = 0; c < num_cells_; ++c) shear_near_crack_[c] = shear_slot_[c] != -1;
 }
 
 Vec3 ShellPatch::position_at(const Vec2& uv, MlsBasis& work) const {
@@ -159,14 +163,12 @@ Vec3 ShellPatch::position_at(const Vec2& uv, MlsBasis& work) const {
   if (crack_ && crack_->num_segments() > 0)
     for (int k = 0; k < basis.count && !cut; ++k)
       cut = crack_->crosses(uv, control_grid_.point(basis.index[static_cast<size_t>(k)]));
-  if (cut) {
-    MlsSettings settings;
-    auto visible = [&](const Vec2& a, const Vec2& b) { return !crack_->crosses(a, b); };
-    if (mls_basis(uv, control_grid_, visible, settings, work)) {
-      Vec3 p = Vec3::Zero();
-      for (size_t k = 0; k < work.index.size(); ++k) p += work.R[k] * x[static_cast<size_t>(work.index[k])];
-      return p;
-    }
+  // Near the crack: MLS over the visible control points. If even the relaxed fit fails (a vertex in a
+  // sliver between crack branches) the NURBS position is the best there is.
+  if (cut && fit_mls(uv, *crack_, work)) {
+    Vec3 p = Vec3::Zero();
+    for (size_t k = 0; k < work.index.size(); ++k) p += work.R[k] * x[static_cast<size_t>(work.index[k])];
+    return p;
   }
   Vec3 p = Vec3::Zero();
   for (int k = 0; k < basis.count; ++k)

@@ -34,20 +34,30 @@ void Simulation::init_cracks() {
     const FractureSpec& f = s.material.fracture;
     const std::string path = "/shells/" + std::to_string(i);
     if (f.enabled) {
-      const double h = shell::brittleness(f.failure_stress, f.fracture_energy, s.material.youngs_modulus, l_ch);
-      if (!(h > 0)) {
-        const double minimum = f.failure_stress * f.failure_stress * l_ch / (2.0 * s.material.youngs_modulus);
+      // H follows from sigma_f, G_f, E and l_ch (thesis sec. 2.3.1).
+      auto brittleness_or_fail = [&](double sigma_f, double g_f, const std::string& json_path) {
+        const double h = shell::brittleness(sigma_f, g_f, s.material.youngs_modulus, l_ch);
+        if (h > 0) return h;
+        const double minimum = sigma_f * sigma_f * l_ch / (2.0 * s.material.youngs_modulus);
         std::ostringstream os;
-        os << "fracture energy " << f.fracture_energy << " J/m^2 is too small for this failure stress and grid: "
-           << "linear softening needs G_f > sigma_f^2 l_ch / (2 E) = " << minimum << " J/m^2 (l_ch = sqrt(3) dx = "
-           << l_ch << " m); raise fracture_energy or refine the grid";
-        throw SceneError(scene_.source, path + "/material/fracture/fracture_energy", os.str());
-      }
-      patch.set_brittleness(h);
-      // Regions in the parameter plane override sigma_f; later regions win (thesis Fig. 4.23b).
-      for (const FailureRegion& r : f.regions)
+        os << "fracture energy " << g_f << " J/m^2 is too small for the failure stress " << sigma_f
+           << " Pa and this grid: linear softening needs G_f > sigma_f^2 l_ch / (2 E) = " << minimum
+           << " J/m^2 (l_ch = sqrt(3) dx = " << l_ch << " m); raise fracture_energy or refine the grid";
+        throw SceneError(scene_.source, json_path, os.str());
+      };
+      const double material_h = brittleness_or_fail(f.failure_stress, f.fracture_energy, path + "/material/fracture/fracture_energy");
+      patch.set_brittleness(material_h);
+      // Regions in the parameter plane override sigma_f; later regions win (thesis Fig. 4.23b). A region
+      // keeps the material's softening shape (its H) unless it gives its own fracture energy.
+      for (size_t k = 0; k < f.regions.size(); ++k) {
+        const FailureRegion& r = f.regions[k];
+        const double h = r.fracture_energy
+                             ? brittleness_or_fail(r.failure_stress, *r.fracture_energy,
+                                                   path + "/material/fracture/regions/" + std::to_string(k) + "/fracture_energy")
+                             : material_h;
         for (size_t q = 0; q < patch.num_inplane_points(); ++q)
-          if (inside_polygon(patch.parameter(q), r.polygon)) patch.set_failure_stress(q, r.failure_stress);
+          if (inside_polygon(patch.parameter(q), r.polygon)) patch.set_failure_stress(q, r.failure_stress, h);
+      }
     }
     if (!f.enabled && s.cuts.empty()) continue;
     const auto& ku = s.surface.knots_u();
@@ -123,13 +133,29 @@ void Simulation::partition_phantom_nodes() {
     const shell::ShellPatch& p = patches_[set / 2];
     return set % 2 == 0 ? p.control_parameter(particle) : p.shear_parameter(particle);
   };
+  size_t segments = 0;
+  for (const auto& c : cracks_) segments += c ? c->graph().num_edges() : 0;
+  bool cacheable = shell_sets < (size_t{1} << 8);
+  for (size_t s = 0; s < shell_sets; ++s) cacheable = cacheable && sets_[s].count < (size_t{1} << 24);
+  if (!visibility_cache_ || segments != visibility_cache_segments_) {
+    visibility_cache_ = std::make_unique<tbb::enumerable_thread_specific<VisibilityCache>>();
+    visibility_cache_segments_ = segments;
+  }
   // Two particles are on the same fragment side locally when they belong to the same body and, on a
   // shell, the parameter-space segment between them crosses no crack.
   const mpm::Connectivity connected = [&](uint32_t sa, uint32_t a, uint32_t sb, uint32_t b) {
     if (sa >= shell_sets || sb >= shell_sets) return sa == sb;
     if (sa / 2 != sb / 2) return false;
     const crack2d::CrackIndex* index = patches_[sa / 2].crack();
-    return !index || !index->crosses(parameter(sa, a), parameter(sb, b));
+    if (!index) return true;
+    if (!cacheable) return !index->crosses(parameter(sa, a), parameter(sb, b));
+    // Key: the two (set, particle) ids, smaller first (sets < 2^8, particles < 2^24 per set).
+    uint64_t ka = (uint64_t{sa} << 24) | a, kb = (uint64_t{sb} << 24) | b;
+    if (ka > kb) std::swap(ka, kb);
+    VisibilityCache& cache = visibility_cache_->local();
+    const auto [it, inserted] = cache.try_emplace((ka << 32) | kb, false);
+    if (inserted) it->second = !index->crosses(parameter(sa, a), parameter(sb, b));
+    return it->second;
   };
   phantoms_ = mpm::partition_nodes(grid_, sets_, roles, connected);
   grid_.set_phantom_copies(phantoms_);

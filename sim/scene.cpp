@@ -177,6 +177,7 @@ FractureSpec read_fracture(ObjectReader& r) {
       FailureRegion fr;
       fr.polygon = read_points2(reg, "polygon", 3);
       fr.failure_stress = reg.number("failure_stress", Range::positive());
+      if (reg.has("fracture_energy")) fr.fracture_energy = reg.number("fracture_energy", Range::positive());
       reg.finish();
       f.regions.push_back(std::move(fr));
     }

@@ -17,6 +17,7 @@ namespace shellfrac::sim {
 struct FailureRegion {
   std::vector<Eigen::Vector2d> polygon;
   double failure_stress = 0;
+  std::optional<double> fracture_energy;  // unset: keep the material's brittleness H
 };
 
 // Rankine damage of a shell material (thesis Eq. 2.28-2.31, sec. 4.4.1); enabled by a "fracture" object.

@@ -1,5 +1,8 @@
 #pragma once
+#include <tbb/enumerable_thread_specific.h>
+
 #include <memory>
+#include <unordered_map>
 #include <string>
 #include <vector>
 
@@ -81,6 +84,7 @@ class Simulation {
 
  private:
   void stage_p2g();
+  void rebuild_grid();
   void stage_forces();
   void stage_grid_update(double dt);
   void stage_g2p(double dt);
@@ -104,6 +108,11 @@ class Simulation {
   std::vector<std::unique_ptr<crack2d::ConsistentCrackExtractor>> cracks_;  // per shell, null if it cannot crack
   shell::MlsSettings mls_settings_;
   mpm::PhantomLayout phantoms_;
+  // Visibility between particle pairs depends only on their parameter coordinates and the crack, so it
+  // is cached across steps (per thread) and dropped when any crack grows.
+  using VisibilityCache = std::unordered_map<uint64_t, bool>;
+  std::unique_ptr<tbb::enumerable_thread_specific<VisibilityCache>> visibility_cache_;
+  size_t visibility_cache_segments_ = 0;
   CrackStats crack_stats_;
   double elastic_bound_ = 0;
   double time_ = 0;

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "sim/run.hpp"
+#include "sim/simulation.hpp"
 #include "sim/scene.hpp"
 #include "sim/scene_error.hpp"
 #include "sim/progress.hpp"
@@ -57,6 +58,9 @@ int main(int argc, char** argv) {
   try {
     if (*validate) {
       const auto scene = load(validate_path);
+      // Build the simulation too: some checks need the grid (the stability bound of a given dt, the
+      // fracture energy against the characteristic length), and solids must sample particles.
+      const shellfrac::sim::Simulation sim(scene);
       std::cout << validate_path << ": OK\n" << shellfrac::sim::describe_scene(scene);
       return kExitOk;
     }

@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <nlohmann/json.hpp>
 
 #include "sim/scene.hpp"
@@ -130,6 +132,44 @@ const BadCase kBadCases[] = {
     {"time_substep_not_bool", "/time/allow_substepping", "\"yes\"", "/time/allow_substepping", "true or false"},
     {"output_unknown_format", "/output/format", "\"docx\"", "/output/format", "unknown mesh format"},
     {"output_zero_resolution", "/output/resolution", "[0, 4]", "/output/resolution/0", "in [1, 4096]"},
+    // Fracture material (thesis sec. 4.4.1, Eq. 2.28).
+    {"fracture_zero_failure_stress", "/shells/0/material/fracture", R"({"failure_stress": 0, "fracture_energy": 100})",
+     "/shells/0/material/fracture/failure_stress", "must be > 0"},
+    {"fracture_negative_energy", "/shells/0/material/fracture", R"({"failure_stress": 1e4, "fracture_energy": -5})",
+     "/shells/0/material/fracture/fracture_energy", "must be > 0"},
+    {"fracture_missing_energy", "/shells/0/material/fracture", R"({"failure_stress": 1e4})",
+     "/shells/0/material/fracture/fracture_energy", "required key is missing"},
+    {"fracture_unknown_damage_rule", "/shells/0/material/fracture",
+     R"({"failure_stress": 1e4, "fracture_energy": 100, "damage_rule": "permanent"})",
+     "/shells/0/material/fracture/damage_rule", "unknown value \"permanent\": allowed are \"healing\", \"monotone\""},
+    {"fracture_region_two_points", "/shells/0/material/fracture",
+     R"({"failure_stress": 1e4, "fracture_energy": 100,
+         "regions": [{"polygon": [[0, 0], [1, 0]], "failure_stress": 1e5}]})",
+     "/shells/0/material/fracture/regions/0/polygon", "expected at least 3 points [u, v], got 2"},
+    {"fracture_region_malformed_point", "/shells/0/material/fracture",
+     R"({"failure_stress": 1e4, "fracture_energy": 100,
+         "regions": [{"polygon": [[0, 0], [1, 0], [1]], "failure_stress": 1e5}]})",
+     "/shells/0/material/fracture/regions/0/polygon/2", "expected a parameter point [u, v] of two finite numbers"},
+    // Prescribed cuts, in the patch's parameter coordinates (shell 0 has the domain [0, 1] x [0, 1]).
+    {"cut_outside_domain", "/shells/0/cuts", R"([{"points": [[0.5, 0.5], [1.5, 0.5]]}])", "/shells/0/cuts/0/points",
+     "vertex 1 (1.5, 0.5) lies outside the domain"},
+    {"cut_zero_length_segment", "/shells/0/cuts", R"([{"points": [[0.2, 0.5], [0.6, 0.5], [0.6, 0.5]]}])",
+     "/shells/0/cuts/0/points", "segment 1 has zero length"},
+    {"cut_self_intersecting", "/shells/0/cuts", R"([{"points": [[0.2, 0.2], [0.8, 0.8], [0.8, 0.2], [0.2, 0.8]]}])",
+     "/shells/0/cuts/0/points", "segment 0 intersects segment 2 (self-intersecting polyline)"},
+    {"cut_closed_two_points", "/shells/0/cuts", R"([{"points": [[0.2, 0.2], [0.8, 0.8]], "closed": true}])",
+     "/shells/0/cuts/0/points", "expected at least 3 points [u, v], got 2"},
+    {"cut_single_point", "/shells/1/cuts", R"([{"points": [[0.5, 0.5]]}])", "/shells/1/cuts/0/points",
+     "expected at least 2 points [u, v], got 1"},
+    // Crack machinery settings.
+    {"cracks_unknown_key", "/cracks", R"({"extraction_every": 5})", "/cracks/extraction_every",
+     "unknown key \"extraction_every\": allowed here are"},
+    {"cracks_zero_extraction_interval", "/cracks", R"({"extraction_interval": 0})", "/cracks/extraction_interval",
+     "value 0 is out of range: must be in [1, 1000000]"},
+    {"cracks_shadow_offset_too_large", "/cracks", R"({"shadow_offset": 0.05})", "/cracks/shadow_offset",
+     "value 0.05 is out of range: must be in (0, 0.01)"},
+    {"cracks_zero_shadow_offset", "/cracks", R"({"shadow_offset": 0})", "/cracks/shadow_offset",
+     "value 0 is out of range: must be in (0, 0.01)"},
 };
 
 INSTANTIATE_TEST_SUITE_P(AllRules, SceneValidation, ::testing::ValuesIn(kBadCases),
@@ -194,6 +234,33 @@ TEST(SceneParse, DegenerateControlNetIsBadInputWhenSimulated) {
     EXPECT_EQ(e.json_path(), "/shells/1/patch");
     EXPECT_THAT(e.message(), HasSubstr("degenerate"));
   }
+}
+
+// The damage law needs G_f > sigma_f^2 l_ch / (2 E) with l_ch = sqrt(3) dx (thesis Eq. 2.28); the grid
+// spacing is only known to the Simulation, so the check runs when it is constructed (sim/cracks.cpp).
+TEST(SceneParse, FractureEnergyTooSmallForTheGridIsBadInputWhenSimulated) {
+  auto scene_with = [](double fracture_energy) {
+    Json j = valid_scene();
+    j["grid"] = {{"dx", 0.1}};
+    j["shells"][0]["material"]["fracture"] = {{"failure_stress", 1e4}, {"fracture_energy", fracture_energy}};
+    return parse_scene(j.dump(), "frac.json");
+  };
+  // E = 1e5 Pa, sigma_f = 1e4 Pa, l_ch = sqrt(3) 0.1 m: the minimum is 1e8 sqrt(3) 0.1 / 2e5 = 86.6025 J/m^2.
+  const double minimum = 1e4 * 1e4 * std::sqrt(3.0) * 0.1 / (2.0 * 1e5);
+  EXPECT_NEAR(minimum, 86.6025, 1e-4);
+  try {
+    Simulation sim(scene_with(80.0));
+    FAIL() << "fracture energy below the minimum was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.file(), "frac.json");
+    EXPECT_EQ(e.json_path(), "/shells/0/material/fracture/fracture_energy") << e.what();
+    EXPECT_THAT(e.message(), HasSubstr("fracture energy 80 J/m^2 is too small")) << e.what();
+    EXPECT_THAT(e.message(), HasSubstr("G_f > sigma_f^2 l_ch / (2 E) = 86.6025 J/m^2")) << e.what();
+    EXPECT_THAT(e.message(), HasSubstr("l_ch = sqrt(3) dx = 0.173205 m")) << e.what();
+    EXPECT_THAT(std::string(e.what()), HasSubstr("frac.json: /shells/0/material/fracture/fracture_energy"));
+  }
+  // Just above the minimum the same scene is accepted.
+  EXPECT_NO_THROW({ Simulation sim(scene_with(90.0)); });
 }
 
 TEST(SceneParse, MissingFileIsASceneError) {
