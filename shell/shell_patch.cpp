@@ -19,6 +19,8 @@ ShellPatch::ShellPatch(const nurbs::NurbsSurface& reference, const ShellMaterial
     : reference_(reference), material_(material), layers_(thickness_layers(rule.layers, material.thickness)) {
   if (!(material.thickness > 0) || !(material.density > 0) || !(material.mu > 0))
     throw std::invalid_argument("shell material needs thickness, density and shear modulus > 0");
+  if (material.stress_model != StressModel::KirchhoffLove && material.plasticity.enabled)
+    throw std::invalid_argument("plasticity needs the Kirchhoff-Love stress model");
   x = reference_.control_points().empty() ? std::vector<Vec3>{}
                                           : std::vector<Vec3>(reference_.control_points().begin(),
                                                               reference_.control_points().end());
@@ -230,7 +232,10 @@ ShellPatch::BasisView ShellPatch::point_basis(size_t q) const {
 ForceFailure ShellPatch::compute_forces() {
   const size_t L = layers_.xi3.size();
   const double mu = material_.mu, lambda = material_.lambda;
-  const TransverseModel model = material_.transverse;
+  const StressModel stress_model = material_.stress_model;
+  const bool plane_strain = stress_model == StressModel::PlaneStrain;
+  const bool mid_surface = stress_model == StressModel::MidSurface2D;
+  const TransverseModel model = stress_model == StressModel::KirchhoffLove ? material_.transverse : TransverseModel::Rigid;
   const bool plastic = material_.plasticity.enabled;
   const bool fracturing = !damage_.empty();
   const bool monotone = material_.fracture.rule == DamageRule::Monotone;
@@ -258,18 +263,25 @@ ForceFailure ShellPatch::compute_forces() {
         // g_3 component, so dPsi/dg_3 = 0 (thesis Eq. 4.14).
         Vec3 K1 = Vec3::Zero(), K2 = Vec3::Zero(), C1 = Vec3::Zero(), C2 = Vec3::Zero();
         for (size_t l = 0; l < L; ++l) {
-          const double xi3 = layers_.xi3[l];
+          // The 2D mid-surface model sees the mid-surface metric at every layer (no bending).
+          const double xi3 = mid_surface ? 0.0 : layers_.xi3[l];
+          const ReferenceLayer& ref = ref_[q * L + (mid_surface ? L / 2 : l)];
           const Vec3 g1 = jet.a1 + xi3 * nj.dn1, g2 = jet.a2 + xi3 * nj.dn2;
           // Plastic materials: return-map the current (trial) state first; it needs the same kinematics.
           if (plastic)
             von_mises_return(g1, g2, mu, lambda, material_.plasticity, ref_[q * L + l], plastic_strain_[q * L + l]);
-          const InPlaneStress st = neo_hookean_in_plane(g1, g2, ref_[q * L + l], mu, lambda, model);
+          const InPlaneStress st = neo_hookean_in_plane(g1, g2, ref, mu, lambda, model);
           if (!st.ok) {
             cell_failed[c] = 1;
             break;
           }
           InPlaneTensor tau{st.t11, st.t12, st.t22};
-          if (fracturing) tau = damaged_stress(tau, g1, g2, st.J * st.lambda3, q, q * L + l, monotone);
+          // Plane strain keeps the transverse normal stress tau^33 = lambda ln J on g_3 = a_3. It does no
+          // work (dPsi/dg_3 is parallel to the unit normal, whose variations are normal to it), so it
+          // matters only as a principal stress of the damage criterion.
+          double tau33 = plane_strain ? lambda * std::log(st.J) : 0.0;
+          if (fracturing)
+            tau = damaged_stress(tau, g1, g2, st.J * st.lambda3, q, q * L + l, monotone, plane_strain ? &tau33 : nullptr);
           // dPsi/dg_alpha = V tau^{alpha beta} g_beta (P~ : dF = tau^{ab} g_b . dg_a)
           const double V = volume_[q * L + l];
           const Vec3 k1 = V * (tau.t11 * g1 + tau.t12 * g2);
@@ -343,14 +355,17 @@ double ShellPatch::parameter_spacing() const {
 }
 
 InPlaneTensor ShellPatch::damaged_stress(const InPlaneTensor& tau, const Vec3& g1, const Vec3& g2, double detF,
-                                        size_t q, size_t ql, bool monotone) {
-  // Effective stress: the largest principal in-plane Cauchy stress of the undamaged trial state
-  // (thesis sec. 4.4.1; the transverse principal value is 0, so it is at least 0).
-  const double effective = std::max(0.0, largest_principal(tau, g1, g2)) / detF;
+                                        size_t q, size_t ql, bool monotone, double* tau33) {
+  // Effective stress: the largest principal Cauchy stress of the undamaged trial state (thesis sec.
+  // 4.4.1). The in-plane stress has a zero transverse principal value, so it is at least 0; plane strain
+  // has tau^33 there instead (g_3 = a_3 is a unit principal direction).
+  const double normal = tau33 ? *tau33 : 0.0;
+  const double effective = std::max(normal, largest_principal(tau, g1, g2)) / detF;
   double c = rankine_damage(effective, failure_stress_[q], brittleness_[q]);  // thesis Eq. 2.28
   if (monotone) c = std::max(c, damage_[ql]);  // conventional rule, kept for comparison
   damage_[ql] = c;                              // healing rule: c^{n+1} = cbar
   damage_history_[ql] = std::max(damage_history_[ql], c);
+  if (tau33 && *tau33 > 0) *tau33 *= 1.0 - c;
   return c > 0 ? weaken_tensile_part(tau, g1, g2, c) : tau;  // thesis Eq. 2.29-2.31
 }
 
@@ -391,11 +406,17 @@ double ShellPatch::elastic_energy() const {
         per_point[q] = std::numeric_limits<double>::quiet_NaN();
         continue;
       }
+      // Plane strain and the 2D model have lambda_3 = 1 (the rigid energy); the KL projection changes the
+      // stress, not the energy, so only the condensed default is an exact gradient of its energy.
+      const bool mid_surface = material_.stress_model == StressModel::MidSurface2D;
+      const TransverseModel model =
+          material_.stress_model == StressModel::KirchhoffLove ? material_.transverse : TransverseModel::Rigid;
       for (size_t l = 0; l < L; ++l) {
-        const double xi3 = layers_.xi3[l];
+        const double xi3 = mid_surface ? 0.0 : layers_.xi3[l];
         per_point[q] += volume_[q * L + l] *
-                        neo_hookean_in_plane_energy(jet.a1 + xi3 * nj.dn1, jet.a2 + xi3 * nj.dn2, ref_[q * L + l],
-                                                    material_.mu, material_.lambda, material_.transverse);
+                        neo_hookean_in_plane_energy(jet.a1 + xi3 * nj.dn1, jet.a2 + xi3 * nj.dn2,
+                                                    ref_[q * L + (mid_surface ? L / 2 : l)], material_.mu,
+                                                    material_.lambda, model);
       }
     }
   });

@@ -18,12 +18,27 @@ namespace shellfrac::shell {
 
 using Vec2 = Eigen::Vector2d;
 
+// Which stress the Type IV points use (the benchmark issue compares them; thesis sec. 4.5, Fig. 4.10).
+enum class StressModel {
+  // Default: the Kirchhoff-Love in-plane stress of thesis Eq. 4.11-4.14 (see TransverseModel).
+  KirchhoffLove,
+  // Guo et al. 2018 style plane strain: F = [g_1 g_2 a_3] G^-1 with the fibre length kept and the full
+  // 3D stress. Its transverse normal stress tau^33 = lambda ln J does no work (the fibre a_3 is a unit
+  // vector, so da_3 is normal to it): the forces equal the rigid-fibre thesis stress, and tau^33 enters
+  // only the damage criterion as a third principal stress.
+  PlaneStrain,
+  // Jiang et al. 2017 style: a 2D deformation gradient of the mid-surface and a 2D Neo-Hookean energy,
+  // extrapolated through the thickness; the Type IV points carry no bending (the mid-surface metric only).
+  MidSurface2D,
+};
+
 // Material constants a shell patch needs for its forces.
 struct ShellMaterial {
   double mu = 0, lambda = 0;  // Lamé parameters (thesis Eq. 2.4)
   double density = 0;         // kg / m^3
   double thickness = 0;       // tau
   TransverseModel transverse = TransverseModel::Condensed;
+  StressModel stress_model = StressModel::KirchhoffLove;
   ShearParams shear;          // Type-III shearing/compression model
   PlasticityParams plasticity;  // Type-IV von Mises plasticity (metal sheets)
   FractureParams fracture;      // Type-IV Rankine damage (thesis sec. 4.4.1)
@@ -209,8 +224,9 @@ class ShellPatch {
   bool nurbs_support_cut(const Vec2& xi, size_t cell, const crack2d::CrackIndex& index) const;
   void rebuild_mls_gather();
   // Damage update and tensile weakening of one layer point's in-plane Kirchhoff stress (thesis 4.4.1).
+  // With plane strain, tau33 (the transverse normal stress tau^33) joins the principal split.
   InPlaneTensor damaged_stress(const InPlaneTensor& tau, const Vec3& g1, const Vec3& g2, double detF, size_t q,
-                               size_t ql, bool monotone);
+                               size_t ql, bool monotone, double* tau33 = nullptr);
   // Position of shear particle c (thesis Eq. 4.10) and the surface tangents a_1, a_2 there.
   Vec3 shear_particle_frame(size_t c, Vec3& a1, Vec3& a2) const;
 

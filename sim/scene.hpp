@@ -10,6 +10,7 @@
 #include "shell/in_plane_stress.hpp"
 #include "shell/plasticity.hpp"
 #include "shell/quadrature.hpp"
+#include "shell/shell_patch.hpp"
 
 namespace shellfrac::sim {
 
@@ -42,6 +43,8 @@ struct Material {
   shell::PlasticityParams plasticity;
   // Thickness treatment of the Kirchhoff-Love in-plane stress (see shell/in_plane_stress.hpp).
   shell::TransverseModel transverse = shell::TransverseModel::Condensed;
+  // The Type IV stress: the thesis's Kirchhoff-Love in-plane stress, or a comparison model.
+  shell::StressModel stress_model = shell::StressModel::KirchhoffLove;
   FractureSpec fracture;
 
   double mu() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }

@@ -21,6 +21,7 @@ shell::ShellMaterial shell_material(const Shell& s) {
   m.density = s.material.density;
   m.thickness = s.thickness;
   m.transverse = s.material.transverse;
+  m.stress_model = s.material.stress_model;
   m.shear.gamma = s.material.shear_stiffness.value_or(s.material.mu());
   m.shear.k = s.material.compression_stiffness.value_or(s.material.youngs_modulus);
   m.shear.friction = s.material.shear_friction;

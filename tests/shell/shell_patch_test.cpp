@@ -192,3 +192,45 @@ TEST(ShellPatch, CollapsedElementIsReported) {
 
 }  // namespace
 }  // namespace shellfrac::shell
+
+namespace shellfrac::shell {
+namespace {
+
+TEST(ShellPatch, ComparisonStressModelsAreEnergyGradients) {
+  // Plane strain (Guo 2018 style: full 3D stress with the fibre kept) and the 2D mid-surface model
+  // (Jiang 2017 style) are exact gradients of their energies; plane strain differs from the projected
+  // thesis stress by the transverse normal stress tau^33 = lambda ln J acting through the normal.
+  for (StressModel model : {StressModel::PlaneStrain, StressModel::MidSurface2D}) {
+    ShellMaterial m = material(1e6, 0.3, 0.05);
+    m.stress_model = model;
+    ShellPatch p(nurbs::cylinder_segment(0.5, 1.0, 1.5, 4, 3), m);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-0.03, 0.03);
+    for (auto& x : p.x) x += Vec3(u(rng), u(rng), u(rng));
+    ASSERT_FALSE(p.compute_forces().failed);
+    const std::vector<Vec3> f = p.force;
+    EXPECT_LE(energy_gradient_mismatch(p, f, 3), 1e-6 * max_norm(f)) << static_cast<int>(model);
+  }
+}
+
+TEST(ShellPatch, MidSurfaceModelIsTheMembraneOfTheRigidFibreShell) {
+  // On a flat reference the 2D model at every layer equals the rigid-fibre shell sampled on the
+  // mid-surface only (one layer): the same membrane energy, and no bending. The three-layer shell adds
+  // bending energy on top.
+  const nurbs::NurbsSurface flat = nurbs::flat_patch(1.0, 0.6, 6, 4);
+  ShellMaterial mid = material(1e6, 0.3, 0.02), rigid = material(1e6, 0.3, 0.02, TransverseModel::Rigid);
+  mid.stress_model = StressModel::MidSurface2D;
+  QuadratureRule one_layer;
+  one_layer.layers = 1;
+  ShellPatch p2d(flat, mid), membrane(flat, rigid, one_layer), shell(flat, rigid);
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-0.04, 0.04);
+  std::vector<Vec3> moved = p2d.x;
+  for (auto& x : moved) x += Vec3(u(rng), u(rng), 3 * u(rng));
+  for (ShellPatch* p : {&p2d, &membrane, &shell}) p->x = moved;
+  EXPECT_NEAR(p2d.elastic_energy(), membrane.elastic_energy(), 1e-12 * membrane.elastic_energy());
+  EXPECT_GT(shell.elastic_energy(), 1.01 * p2d.elastic_energy());
+}
+
+}  // namespace
+}  // namespace shellfrac::shell
