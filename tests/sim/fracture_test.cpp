@@ -1,6 +1,7 @@
 // Fracture in whole simulations: consistent mode-I tearing, no lost area, fragments that separate with
 // phantom nodes and glue without them, and contact between fragments (thesis sec. 4.4-4.7, 4.9).
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include "render_mesh/cracked_tessellation.hpp"
 #include "sim/scene.hpp"
@@ -136,6 +137,23 @@ TEST(Fracture, FragmentsPressedTogetherDoNotInterpenetrate) {
   EXPECT_GE(after.right_min - after.left_max, -0.5 * sim.dx());
   EXPECT_GT(sim.crack_stats().contact_pairs, 0u);
   EXPECT_LE((sim.linear_momentum() - momentum).norm(), 1e-10);  // contact forces are equal and opposite
+}
+
+TEST(Fracture, TearingIsBitIdenticalForAnyThreadCount) {
+  // Damage, crack extraction, MLS updates, the phantom partition and contact all run in parallel; the
+  // result must not depend on the thread count.
+  const Scene scene = parse_scene(tear_scene(""), "tear.json");
+  auto run = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+    Simulation sim(scene);
+    sim.advance_to(0.45);
+    EXPECT_GT(sim.crack_graph(0)->num_edges(), 10u);
+    return sim.patches()[0].x;
+  };
+  const auto one = run(1), two = run(2);
+  bool identical = one.size() == two.size();
+  for (size_t k = 0; identical && k < one.size(); ++k) identical = one[k] == two[k];
+  EXPECT_TRUE(identical);
 }
 
 TEST(Fracture, ShapeCutOutOfAHangingClothFallsAway) {
