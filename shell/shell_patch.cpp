@@ -177,13 +177,15 @@ void ShellPatch::build_shear_particles() {
   }
 }
 
+ShellPatch::BasisView ShellPatch::slot_view(int32_t slot) const {
+  const MlsSupport& m = slots_[static_cast<size_t>(slot)];
+  return {static_cast<int>(m.index.size()), m.index.data(), m.basis.data(), kBasisStride,
+          const_cast<Vec3*>(m.force.data())};
+}
+
 ShellPatch::BasisView ShellPatch::shear_basis(size_t c) const {
   const int32_t slot = shear_slot_[c];
-  if (slot >= 0) {
-    const MlsSupport& m = slots_[static_cast<size_t>(slot)];
-    return {static_cast<int>(m.index.size()), m.index.data(), m.basis.data(), kBasisStride,
-            const_cast<Vec3*>(m.force.data())};
-  }
+  if (slot >= 0) return slot_view(slot);
   return {support_size_, support(c), &shear.basis[c * static_cast<size_t>(support_size_ * kShearStride)], kShearStride,
           const_cast<Vec3*>(&cell_force_[c * static_cast<size_t>(support_size_)])};
 }
@@ -219,11 +221,7 @@ void ShellPatch::update_shear_particles(double dt) {
 
 ShellPatch::BasisView ShellPatch::point_basis(size_t q) const {
   const int32_t slot = point_slot_[q];
-  if (slot >= 0) {
-    const MlsSupport& m = slots_[static_cast<size_t>(slot)];
-    return {static_cast<int>(m.index.size()), m.index.data(), m.basis.data(), kBasisStride,
-            const_cast<Vec3*>(m.force.data())};
-  }
+  if (slot >= 0) return slot_view(slot);
   const size_t c = cell_of(q);
   return {support_size_, support(c), &basis_[q * static_cast<size_t>(support_size_) * kBasisStride], kBasisStride,
           const_cast<Vec3*>(&cell_force_[c * static_cast<size_t>(support_size_)])};

@@ -204,6 +204,7 @@ class ShellPatch {
   static constexpr int kShearStride = 3;  // R, R_1, R_2 per support control point of a NURBS shear particle
   // const: the force target they expose is written only by compute_forces.
   BasisView point_basis(size_t q) const;
+  BasisView slot_view(int32_t slot) const;
   BasisView shear_basis(size_t c) const;
   // Type III force of cell c on its support control points and its grid stress term.
   bool add_shear_force(size_t c);

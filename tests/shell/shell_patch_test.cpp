@@ -1,4 +1,5 @@
 #include "shell/shell_patch.hpp"
+#include "tests/shell/shell_test_helpers.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,21 +11,8 @@
 namespace shellfrac::shell {
 namespace {
 
-ShellMaterial material(double E, double nu, double thickness, TransverseModel model = TransverseModel::Condensed) {
-  ShellMaterial m;
-  m.mu = E / (2 * (1 + nu));
-  m.lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
-  m.density = 500;
-  m.thickness = thickness;
-  m.transverse = model;
-  return m;
-}
-
-double max_norm(const std::vector<Vec3>& f) {
-  double m = 0;
-  for (const auto& v : f) m = std::max(m, v.norm());
-  return m;
-}
+using test::material;
+using test::max_norm;
 
 // Largest difference between `force` and minus the central-difference energy gradient, over every
 // `stride`-th control point.
