@@ -1,5 +1,6 @@
 // The crack stages of Simulation: set-up of damage and prescribed cuts, consistent crack extraction
 // (thesis sec. 4.4.2) with MLS basis updates (sec. 4.6), and the phantom-node partition (sec. 4.7.1).
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -26,6 +27,7 @@ bool inside_polygon(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>
 void Simulation::init_cracks() {
   mls_settings_.max_factor = scene_.cracks.max_support;
   cracks_.resize(patches_.size());
+  damaged_count_.assign(patches_.size(), 0);
   // Characteristic length of the damage law: l_ch = sqrt(3 h^2) with h the grid spacing (sec. 2.3.1).
   const double l_ch = std::sqrt(3.0) * grid_.dx();
   for (size_t i = 0; i < patches_.size(); ++i) {
@@ -97,8 +99,19 @@ void Simulation::stage_cracks() {
     if (!cracks_[i]) continue;
     shell::ShellPatch& patch = patches_[i];
     if (patch.fractures()) {
+      // The fully damaged set only grows (c_his is a running maximum): an unchanged count means an
+      // unchanged set, and the extraction would add nothing.
+      const std::vector<unsigned char> damaged = patch.fully_damaged_points();
+      const size_t count = static_cast<size_t>(std::count(damaged.begin(), damaged.end(), 1));
+      if (count == damaged_count_[i]) {
+        crack_stats_.crack_edges += cracks_[i]->graph().num_edges();
+        crack_stats_.mls_points += patch.num_mls_points();
+        crack_stats_.mls_failures += patch.num_mls_failures();
+        continue;
+      }
+      damaged_count_[i] = count;
       const size_t first = cracks_[i]->graph().num_edges();
-      const crack2d::ExtractionStats st = cracks_[i]->extract(patch.inplane_parameters(), patch.fully_damaged_points());
+      const crack2d::ExtractionStats st = cracks_[i]->extract(patch.inplane_parameters(), damaged);
       ++crack_stats_.extractions;
       crack_stats_.subset_violations += st.subset_violations;
       // Only points whose support the new segments touch are rebuilt (thesis sec. 4.6).

@@ -48,7 +48,7 @@ TEST(Fracture, ModeOneTearIsStraightConsistentAndKeepsItsArea) {
   Simulation sim(parse_scene(tear_scene(""), "tear.json"));
   sim.advance_to(1.2);
   const CrackStats& st = sim.crack_stats();
-  EXPECT_GT(st.extractions, 50);
+  EXPECT_GE(st.extractions, 5);  // extractions run only when the fully damaged set grew
   EXPECT_EQ(st.subset_violations, 0u);  // every extraction contains the previous crack exactly
   const crack2d::CrackGraph& g = *sim.crack_graph(0);
   double u_max = 0, v_dev = 0;
