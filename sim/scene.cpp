@@ -352,6 +352,7 @@ Scene parse_scene(const std::string& json_text, const std::string& source) {
   if (scene.shells.empty() && scene.solids.empty()) root.fail("shells", "a scene needs at least one shell or solid");
   scene.colliders = read_colliders(root);
   scene.pins = read_pins(root, scene.shells);
+  scene.interfaces = read_interfaces(root, scene.shells);
   root.finish();
   return scene;
 }

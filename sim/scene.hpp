@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "coupling/interface.hpp"
 #include "mpm/colliders.hpp"
 #include "nurbs/nurbs_surface.hpp"
 #include "shell/damage.hpp"
@@ -105,6 +106,13 @@ struct Pin {
   std::string json_path;  // where the pin was defined, for messages
 };
 
+// Two patch edges coupled C0 or C1 (thesis sec. 4.8); the coupling operators are built when the scene is
+// read, so a bad interface (edges that do not meet, mismatched degrees) is bad input.
+struct InterfaceSpec {
+  coupling::Interface coupling;
+  std::string json_path;
+};
+
 // Crack machinery shared by all fracturing shells (thesis sec. 4.4.2, 4.6, 4.7).
 struct CrackSettings {
   int extraction_interval = 10;    // steps between consistent crack extractions
@@ -144,6 +152,7 @@ struct Scene {
   std::vector<ColliderSpec> colliders;
   std::vector<Pin> pins;
   CrackSettings cracks;
+  std::vector<InterfaceSpec> interfaces;
   // True when any shell can crack (fracture material or prescribed cuts).
   bool has_cracks() const {
     for (const Shell& s : shells)

@@ -142,6 +142,19 @@ std::vector<SolidBody> read_solids(ObjectReader& root) {
   return out;
 }
 
+size_t read_shell_reference(ObjectReader& r, const std::string& key, const std::vector<Shell>& shells) {
+  const Json& which = r.raw(key);
+  if (which.is_string()) {
+    const std::string name = which.get<std::string>();
+    size_t k = 0;
+    while (k < shells.size() && shells[k].name != name) ++k;
+    if (k == shells.size()) r.fail(key, "no shell is named \"" + name + "\"");
+    return k;
+  }
+  if (shells.empty()) r.fail(key, "the scene has no shells");
+  return static_cast<size_t>(r.integer(key, Range::closed(0, static_cast<double>(shells.size()) - 1)));
+}
+
 std::vector<Pin> read_pins(ObjectReader& root, const std::vector<Shell>& shells) {
   std::vector<Pin> out;
   if (!root.has("pins")) return out;
@@ -151,17 +164,7 @@ std::vector<Pin> read_pins(ObjectReader& root, const std::vector<Shell>& shells)
     ObjectReader r(list[i], path, root.file());
     Pin pin;
     pin.json_path = path;
-    // The shell: by name or by index.
-    const Json& which = r.raw("shell");
-    if (which.is_string()) {
-      const std::string name = which.get<std::string>();
-      size_t k = 0;
-      while (k < shells.size() && shells[k].name != name) ++k;
-      if (k == shells.size()) r.fail("shell", "no shell is named \"" + name + "\"");
-      pin.shell = k;
-    } else {
-      pin.shell = static_cast<size_t>(r.integer("shell", Range::closed(0, static_cast<double>(shells.size()) - 1)));
-    }
+    pin.shell = read_shell_reference(r, "shell", shells);  // by name or by index
     const auto& surf = shells[pin.shell].surface;
     const int nu = surf.num_u(), nv = surf.num_v();
     const bool has_region = r.has("region"), has_points = r.has("control_points");
@@ -202,6 +205,47 @@ std::vector<Pin> read_pins(ObjectReader& root, const std::vector<Shell>& shells)
     if (auto m = r.optional_object("motion")) pin.motion = read_motion(*m);
     r.finish();
     out.push_back(std::move(pin));
+  }
+  return out;
+}
+
+}  // namespace shellfrac::sim
+
+namespace shellfrac::sim {
+
+std::vector<InterfaceSpec> read_interfaces(ObjectReader& root, const std::vector<Shell>& shells) {
+  std::vector<InterfaceSpec> out;
+  if (!root.has("interfaces")) return out;
+  const Json& list = root.array("interfaces");
+  const std::vector<std::string> sides{"u0", "u1", "v0", "v1"};
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string path = "/interfaces/" + std::to_string(i);
+    ObjectReader r(list[i], path, root.file());
+    auto read_edge = [&](const std::string& key, size_t& shell, coupling::Side& side) {
+      ObjectReader e = r.object(key);
+      shell = read_shell_reference(e, "shell", shells);
+      const std::string s = e.choice("side", sides);
+      side = s == "u0" ? coupling::Side::U0 : s == "u1" ? coupling::Side::U1 : s == "v0" ? coupling::Side::V0 : coupling::Side::V1;
+      e.finish();
+    };
+    size_t a = 0, b = 0;
+    coupling::Side sa{}, sb{};
+    read_edge("a", a, sa);
+    read_edge("b", b, sb);
+    if (a == b) r.fail("b", "an interface couples two different shells");
+    coupling::InterfaceOptions options;
+    options.continuity = r.choice_or("continuity", "C1", {"C0", "C1"}) == "C0" ? coupling::Continuity::C0
+                                                                              : coupling::Continuity::C1;
+    options.tolerance = r.number_or("tolerance", 1e-8, Range::positive());
+    const bool reversed = r.boolean_or("reversed", false);
+    r.finish();
+    try {
+      out.push_back({coupling::make_interface(shells[a].surface, static_cast<int>(a), sa, shells[b].surface,
+                                              static_cast<int>(b), sb, reversed, options),
+                     path});
+    } catch (const std::invalid_argument& e) {
+      r.fail_here(std::string("cannot couple these edges: ") + e.what());
+    }
   }
   return out;
 }

@@ -257,8 +257,24 @@ void Simulation::stage_g2p(double dt) {
     mpm::project_particles(solid.x, solid.v, colliders_, time_ + dt);
   }
   apply_pins(time_ + dt);
+  stage_coupling();
   for (auto& p : patches_) p.update_shear_particles(dt);
   check_finite();
+}
+
+void Simulation::stage_coupling() {
+  if (scene_.interfaces.empty()) return;
+  auto scope = timer_.time("coupling");
+  // Follower rows from the leader after the leader's advection (thesis Eq. 4.29, and Eq. 4.34 for C1).
+  // The operators are linear, so velocities follow the same map. The momentum-correction transfer of
+  // Eq. 4.30-4.32 is not built yet.
+  for (const InterfaceSpec& spec : scene_.interfaces) {
+    const coupling::Interface& c = spec.coupling;
+    shell::ShellPatch& leader = patches_[static_cast<size_t>(c.leader_patch)];
+    shell::ShellPatch& follower = patches_[static_cast<size_t>(c.follower_patch)];
+    c.apply(leader.x, follower.x);
+    c.apply(leader.v, follower.v);
+  }
 }
 
 void Simulation::apply_pins(double t) {

@@ -1,0 +1,94 @@
+// Two non-conforming patches coupled along a shared edge in a running simulation (thesis sec. 4.8).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "sim/scene.hpp"
+#include "sim/scene_error.hpp"
+#include "sim/simulation.hpp"
+
+namespace shellfrac::sim {
+namespace {
+
+// A 1 m x 1 m cloth in two patches meeting at x = 0.5: 10 cells along the seam on the left, 20 on the
+// right (nested knots), draped over a ball so that the seam bends.
+std::string two_patch_scene(const std::string& interfaces) {
+  return R"({"name": "seam", "gravity": [0, -9.81, 0],
+    "shells": [
+      {"name": "left", "patch": {"type": "flat", "size": [0.5, 1.0], "cells": [5, 10],
+        "origin": [-0.5, 0.3, 0.5], "axis_u": [1, 0, 0], "axis_v": [0, 0, -1]},
+       "thickness": 0.0005, "material": {"E": 1e5, "nu": 0.3, "density": 300}},
+      {"name": "right", "patch": {"type": "flat", "size": [0.5, 1.0], "cells": [10, 20],
+        "origin": [0.0, 0.3, 0.5], "axis_u": [1, 0, 0], "axis_v": [0, 0, -1]},
+       "thickness": 0.0005, "material": {"E": 1e5, "nu": 0.3, "density": 300}}],
+    "colliders": [{"shape": "sphere", "center": [0, 0, 0], "radius": 0.25}])" +
+         interfaces + "}";
+}
+
+// Largest distance between the seam curves and largest angle between the two surfaces' normals there.
+struct Seam {
+  double gap = 0, angle = 0;
+};
+
+Seam measure_seam(const Simulation& sim) {
+  const auto left = sim.patches()[0].current_surface(), right = sim.patches()[1].current_surface();
+  Seam s;
+  for (int k = 0; k <= 100; ++k) {
+    const double v = k / 100.0;
+    const nurbs::SurfacePoint a = left.evaluate(1.0, v);
+    const nurbs::SurfacePoint b = right.evaluate(0.0, v);
+    s.gap = std::max(s.gap, (a.x - b.x).norm());
+    s.angle = std::max(s.angle, std::acos(std::clamp(a.normal.dot(b.normal), -1.0, 1.0)));
+  }
+  return s;
+}
+
+TEST(Coupling, SeamStaysClosedAndSmooth) {
+  const std::string c1 = R"(, "interfaces": [{"a": {"shell": "left", "side": "u1"},
+                                              "b": {"shell": "right", "side": "u0"}, "continuity": "C1"}])";
+  const std::string c0 = R"(, "interfaces": [{"a": {"shell": "left", "side": "u1"},
+                                              "b": {"shell": "right", "side": "u0"}, "continuity": "C0"}])";
+  Seam worst[3];
+  const std::string variants[3] = {"", c0, c1};
+  for (int k = 0; k < 3; ++k) {
+    Simulation sim(parse_scene(two_patch_scene(variants[k]), "seam.json"));
+    for (int f = 1; f <= 8; ++f) {
+      sim.advance_to(0.05 * f);
+      const Seam s = measure_seam(sim);
+      worst[k].gap = std::max(worst[k].gap, s.gap);
+      worst[k].angle = std::max(worst[k].angle, s.angle);
+    }
+  }
+  // C0 and C1: the seam stays closed to round-off (nested knots reproduce the leader's edge exactly).
+  EXPECT_LE(worst[1].gap, 1e-9);
+  EXPECT_LE(worst[2].gap, 1e-9);
+  // Uncoupled, the two edges drift apart and crease (the failure coupling exists to fix).
+  EXPECT_GT(worst[0].gap, 1e-4);
+  EXPECT_GT(worst[0].angle, 10.0 * M_PI / 180.0);
+  // C1 keeps the normals continuous across the seam, C0 does not.
+  EXPECT_LE(worst[2].angle, 0.5 * M_PI / 180.0);
+  EXPECT_GT(worst[1].angle, 2.0 * worst[2].angle);
+  // Measured: gap uncoupled 0.078 m, C0 and C1 1.7e-16 m; angle uncoupled 30 deg, C0 50 deg, C1 1.7e-6 deg.
+  std::printf("seam gap uncoupled %.3g C0 %.3g C1 %.3g; normal angle (deg) uncoupled %.3g C0 %.3g C1 %.3g\n",
+              worst[0].gap, worst[1].gap, worst[2].gap, worst[0].angle * 180 / M_PI, worst[1].angle * 180 / M_PI,
+              worst[2].angle * 180 / M_PI);
+}
+
+TEST(Coupling, EdgesThatDoNotMeetAreBadInput) {
+  // Shift the right patch by 1 mm: the interface names the measured gap.
+  std::string scene = two_patch_scene(R"(, "interfaces": [{"a": {"shell": "left", "side": "u1"},
+                                              "b": {"shell": "right", "side": "u0"}}])");
+  scene.replace(scene.find("[0.0, 0.3, 0.5]"), 15, "[0.001, 0.3, 0.5]");
+  try {
+    parse_scene(scene, "seam.json");
+    FAIL() << "accepted edges 1 mm apart";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("/interfaces/0"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("0.001"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace shellfrac::sim
