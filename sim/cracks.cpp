@@ -98,17 +98,12 @@ void Simulation::stage_cracks() {
   for (size_t i = 0; i < patches_.size(); ++i) {
     if (!cracks_[i]) continue;
     shell::ShellPatch& patch = patches_[i];
-    if (patch.fractures()) {
-      // The fully damaged set only grows (c_his is a running maximum): an unchanged count means an
-      // unchanged set, and the extraction would add nothing.
-      const std::vector<unsigned char> damaged = patch.fully_damaged_points();
-      const size_t count = static_cast<size_t>(std::count(damaged.begin(), damaged.end(), 1));
-      if (count == damaged_count_[i]) {
-        crack_stats_.crack_edges += cracks_[i]->graph().num_edges();
-        crack_stats_.mls_points += patch.num_mls_points();
-        crack_stats_.mls_failures += patch.num_mls_failures();
-        continue;
-      }
+    // The fully damaged set only grows (c_his is a running maximum): an unchanged count means an
+    // unchanged set, and the extraction would add nothing.
+    const std::vector<unsigned char> damaged =
+        patch.fractures() ? patch.fully_damaged_points() : std::vector<unsigned char>{};
+    const size_t count = static_cast<size_t>(std::count(damaged.begin(), damaged.end(), 1));
+    if (patch.fractures() && count != damaged_count_[i]) {
       damaged_count_[i] = count;
       const size_t first = cracks_[i]->graph().num_edges();
       const crack2d::ExtractionStats st = cracks_[i]->extract(patch.inplane_parameters(), damaged);
