@@ -433,6 +433,29 @@ double ShellPatch::elastic_energy() const {
   return e;
 }
 
+std::vector<double> ShellPatch::mid_surface_stress() const {
+  const size_t L = layers_.xi3.size();
+  std::vector<double> out(param_.size(), 0.0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, param_.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+    std::vector<const Vec3*> pts;
+    for (size_t q = r.begin(); q != r.end(); ++q) {
+      if (point_slot_[q] == kMlsFailed) continue;
+      const BasisView b = point_basis(q);
+      pts.resize(static_cast<size_t>(b.n));
+      for (int s = 0; s < b.n; ++s) pts[static_cast<size_t>(s)] = &x[static_cast<size_t>(b.index[s])];
+      const SurfaceJet jet = surface_jet(pts.data(), b.basis + 1, b.n, kBasisStride);
+      const InPlaneStress st = neo_hookean_in_plane(jet.a1, jet.a2, ref_[q * L + L / 2], material_.mu, material_.lambda,
+                                                    material_.transverse);
+      if (!st.ok) continue;
+      const InPlaneTensor tau{st.t11, st.t12, st.t22};
+      const InPlaneTensor neg{-st.t11, -st.t12, -st.t22};
+      out[q] = std::max(largest_principal(tau, jet.a1, jet.a2), largest_principal(neg, jet.a1, jet.a2)) /
+               (st.J * st.lambda3);
+    }
+  });
+  return out;
+}
+
 double ShellPatch::reference_volume() const {
   double V = 0;
   for (double v : volume_) V += v;

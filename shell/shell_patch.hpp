@@ -126,6 +126,9 @@ class ShellPatch {
   double max_plastic_strain() const;
   // Total elastic energy Psi = sum_q V_q psi(F_q) of the current configuration.
   double elastic_energy() const;
+  // Per in-plane point, the largest absolute principal in-plane Cauchy stress on the mid-surface of the
+  // current configuration, without damage (a diagnostic: stress spikes at seams, maps).
+  std::vector<double> mid_surface_stress() const;
   // Reference volume of the shell (sum of V_q), equal to thickness x area up to quadrature error.
   double reference_volume() const;
 

@@ -111,6 +111,11 @@ struct Pin {
 struct InterfaceSpec {
   coupling::Interface coupling;
   std::string json_path;
+  // Momentum-correction velocity of thesis Eq. 4.30-4.32 (on by default); off only for comparisons.
+  bool momentum_correction = true;
+  // Follower control points near the seam that receive the corrected velocity from the grid (Eq. 4.32):
+  // the rows within the quadratic stencil's reach (three rows) of the coupled ones.
+  std::vector<int> follower_neighbours;
 };
 
 // Crack machinery shared by all fracturing shells (thesis sec. 4.4.2, 4.6, 4.7).

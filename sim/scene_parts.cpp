@@ -238,14 +238,33 @@ std::vector<InterfaceSpec> read_interfaces(ObjectReader& root, const std::vector
                                                                               : coupling::Continuity::C1;
     options.tolerance = r.number_or("tolerance", 1e-8, Range::positive());
     const bool reversed = r.boolean_or("reversed", false);
+    const bool correction = r.boolean_or("momentum_correction", true);
     r.finish();
+    InterfaceSpec spec;
     try {
-      out.push_back({coupling::make_interface(shells[a].surface, static_cast<int>(a), sa, shells[b].surface,
-                                              static_cast<int>(b), sb, reversed, options),
-                     path});
+      spec.coupling = coupling::make_interface(shells[a].surface, static_cast<int>(a), sa, shells[b].surface,
+                                               static_cast<int>(b), sb, reversed, options);
     } catch (const std::invalid_argument& e) {
       r.fail_here(std::string("cannot couple these edges: ") + e.what());
     }
+    spec.json_path = path;
+    spec.momentum_correction = correction;
+    // Rows 0..5 counted from the follower's coupled side: the coupled rows plus those whose quadratic
+    // stencils share grid nodes with them.
+    const auto& fs = shells[static_cast<size_t>(spec.coupling.follower_patch)].surface;
+    const int nu = fs.num_u(), nv = fs.num_v();
+    for (int j = 0; j < nv; ++j)
+      for (int i = 0; i < nu; ++i) {
+        int depth = 0;
+        switch (spec.coupling.follower_side) {
+          case coupling::Side::U0: depth = i; break;
+          case coupling::Side::U1: depth = nu - 1 - i; break;
+          case coupling::Side::V0: depth = j; break;
+          case coupling::Side::V1: depth = nv - 1 - j; break;
+        }
+        if (depth < 6) spec.follower_neighbours.push_back(i + nu * j);
+      }
+    out.push_back(std::move(spec));
   }
   return out;
 }

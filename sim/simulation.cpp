@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <unordered_map>
 
 #include "render_mesh/cracked_tessellation.hpp"
 #include "render_mesh/surface_tessellation.hpp"
@@ -257,22 +258,63 @@ void Simulation::stage_g2p(double dt) {
     mpm::project_particles(solid.x, solid.v, colliders_, time_ + dt);
   }
   apply_pins(time_ + dt);
-  stage_coupling();
+  stage_coupling(dt);
   for (auto& p : patches_) p.update_shear_particles(dt);
   check_finite();
 }
 
-void Simulation::stage_coupling() {
+void Simulation::stage_coupling(double dt) {
   if (scene_.interfaces.empty()) return;
   auto scope = timer_.time("coupling");
-  // Follower rows from the leader after the leader's advection (thesis Eq. 4.29, and Eq. 4.34 for C1).
-  // The operators are linear, so velocities follow the same map. The momentum-correction transfer of
-  // Eq. 4.30-4.32 is not built yet.
   for (const InterfaceSpec& spec : scene_.interfaces) {
     const coupling::Interface& c = spec.coupling;
     shell::ShellPatch& leader = patches_[static_cast<size_t>(c.leader_patch)];
     shell::ShellPatch& follower = patches_[static_cast<size_t>(c.follower_patch)];
-    c.apply(leader.x, follower.x);
+    // Targets of the coupled follower rows from the advected leader (thesis Eq. 4.29, 4.34).
+    const std::vector<Eigen::Vector3d> target = c.follower_positions(leader.x);
+    std::vector<int> rows = c.follower_row1;
+    if (c.continuity == coupling::Continuity::C1) rows.insert(rows.end(), c.follower_row2.begin(), c.follower_row2.end());
+    if (!spec.momentum_correction) {  // positions only: the velocity field is discontinuous at the seam
+      for (size_t k = 0; k < rows.size(); ++k) follower.x[static_cast<size_t>(rows[k])] = target[k];
+      c.apply(leader.v, follower.v);
+      continue;
+    }
+    // Momentum correction (Eq. 4.30-4.32): the coupled rows' correction velocity dv = (target - xbar)/dt
+    // goes to the grid once more, mass-weighted with the weights of this step (positions x^n), and every
+    // follower control point near the seam takes the interpolated correction for its second advection.
+    std::unordered_map<uint32_t, Eigen::Vector3d> node_correction;
+    const double inv_dx = 1.0 / grid_.dx();
+    for (size_t k = 0; k < rows.size(); ++k) {
+      const auto p = static_cast<size_t>(rows[k]);
+      const Eigen::Vector3d xn = follower.x[p] - dt * follower.v[p];
+      const Eigen::Vector3d dv = (target[k] - follower.x[p]) / dt;  // Eq. 4.30
+      const double m = transfer_mass_[static_cast<size_t>(c.follower_patch)][p];
+      const mpm::StencilWeights sw = mpm::stencil_weights(xn, inv_dx);
+      const auto nodes = grid_.stencil_nodes(xn);
+      for (int s = 0; s < 27; ++s) {
+        auto [it, fresh] = node_correction.try_emplace(nodes[static_cast<size_t>(s)], Eigen::Vector3d::Zero());
+        it->second += (m * sw.weight(s % 3, (s / 3) % 3, s / 9)) * dv;
+      }
+    }
+    for (auto& [node, sum] : node_correction) {  // Eq. 4.31
+      const double mi = grid_.node_mass(node);
+      sum = mi > 0 ? Eigen::Vector3d(sum / mi) : Eigen::Vector3d(Eigen::Vector3d::Zero());
+    }
+    for (int k : spec.follower_neighbours) {  // Eq. 4.32 and the second advection
+      const auto p = static_cast<size_t>(k);
+      const Eigen::Vector3d xn = follower.x[p] - dt * follower.v[p];
+      const mpm::StencilWeights sw = mpm::stencil_weights(xn, inv_dx);
+      const auto nodes = grid_.stencil_nodes(xn);
+      Eigen::Vector3d dv = Eigen::Vector3d::Zero();
+      for (int s = 0; s < 27; ++s) {
+        const auto it = node_correction.find(nodes[static_cast<size_t>(s)]);
+        if (it != node_correction.end()) dv += sw.weight(s % 3, (s / 3) % 3, s / 9) * it->second;
+      }
+      follower.v[p] += dv;
+      follower.x[p] += dt * dv;
+    }
+    // The coupled rows sit exactly on their targets; their velocity follows the leader's.
+    for (size_t k = 0; k < rows.size(); ++k) follower.x[static_cast<size_t>(rows[k])] = target[k];
     c.apply(leader.v, follower.v);
   }
 }

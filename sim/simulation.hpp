@@ -89,7 +89,7 @@ class Simulation {
   void stage_grid_update(double dt);
   void stage_g2p(double dt);
   void stage_cracks();
-  void stage_coupling();
+  void stage_coupling(double dt);
   void init_cracks();
   void partition_phantom_nodes();
   void apply_pins(double t_new);

@@ -76,6 +76,45 @@ TEST(Coupling, SeamStaysClosedAndSmooth) {
               worst[2].angle * 180 / M_PI);
 }
 
+// Largest mid-surface stress of the follower's quadrature points in the two cell columns next to the
+// seam, over the median stress of the follower patch (the issue's seam stress ratio).
+double seam_stress_ratio(const Simulation& sim) {
+  const auto& p = sim.patches()[1];
+  std::vector<double> stress = p.mid_surface_stress();
+  double seam = 0;
+  for (size_t q = 0; q < stress.size(); ++q)
+    if (p.parameter(q).x() < 2.0 / 10.0) seam = std::max(seam, stress[q]);  // 10 cells across
+  std::nth_element(stress.begin(), stress.begin() + static_cast<long>(stress.size() / 2), stress.end());
+  return seam / stress[stress.size() / 2];
+}
+
+TEST(Coupling, MomentumCorrectionIsNeutralOnNestedKnots) {
+  double ratio[2] = {0, 0};
+  for (int corrected = 0; corrected < 2; ++corrected) {
+    // The cloth hangs from its top edge (stressed everywhere by its weight) instead of lying on the ball.
+    std::string scene = two_patch_scene(std::string(R"(, "interfaces": [{"a": {"shell": "left", "side": "u1"},
+        "b": {"shell": "right", "side": "u0"}, "continuity": "C1", "momentum_correction": )") +
+                                        (corrected ? "true" : "false") + R"(}],
+        "pins": [{"shell": "left", "region": {"v": [0.0, 0.01]}}, {"shell": "right", "region": {"v": [0.0, 0.01]}}])");
+    scene.replace(scene.find("\"colliders\""), std::string(R"("colliders": [{"shape": "sphere", "center": [0, 0, 0], "radius": 0.25}])").size(),
+                  R"("colliders": [])");
+    for (const char* axis : {R"("axis_v": [0, 0, -1])", R"("axis_v": [0, 0, -1])"})
+      scene.replace(scene.find(axis), std::string(axis).size(), R"("axis_v": [0, -1, 0])");
+    Simulation sim(parse_scene(scene, "seam.json"));
+    for (int f = 1; f <= 8; ++f) {
+      sim.advance_to(0.05 * f);
+      ratio[corrected] = std::max(ratio[corrected], seam_stress_ratio(sim));
+    }
+  }
+  // Nested knots (10 vs 20 along the seam): the follower represents the leader's edge exactly, its free
+  // motion already nearly matches, and the correction (Eq. 4.30-4.32) changes the seam stress ratio by
+  // less than 1% (measured 4.268 vs 4.267; the peak sits at the pinned top corner). The spike the
+  // correction exists for needs non-nested knots; that comparison is still open (issue 5).
+  std::printf("seam stress ratio: uncorrected %.4g corrected %.4g\n", ratio[0], ratio[1]);
+  EXPECT_GT(ratio[0], 1.0);
+  EXPECT_NEAR(ratio[1], ratio[0], 0.01 * ratio[0]);
+}
+
 TEST(Coupling, EdgesThatDoNotMeetAreBadInput) {
   // Shift the right patch by 1 mm: the interface names the measured gap.
   std::string scene = two_patch_scene(R"(, "interfaces": [{"a": {"shell": "left", "side": "u1"},
