@@ -131,6 +131,7 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), grid_(1.0) {
     sets_.push_back(shear);
   }
   for (auto& solid : solids_) sets_.push_back(solid.view());
+  start_positions_.resize(patches_.size());
   init_cracks();
 }
 
@@ -249,6 +250,10 @@ void Simulation::stage_grid_update(double dt) {
 void Simulation::stage_g2p(double dt) {
   auto scope = timer_.time("g2p");
   grid_.transfer_to_particles(sets_);
+  // Follower patches keep x^n: the momentum correction transfers with this step's weights (Eq. 4.31).
+  for (const InterfaceSpec& spec : scene_.interfaces)
+    start_positions_[static_cast<size_t>(spec.coupling.follower_patch)] =
+        patches_[static_cast<size_t>(spec.coupling.follower_patch)].x;
   for (auto& p : patches_) {
     tbb::parallel_for(size_t{0}, p.x.size(), [&](size_t k) { p.x[k] += dt * p.v[k]; });  // thesis Eq. 4.9
     mpm::project_particles(p.x, p.v, colliders_, time_ + dt);
@@ -282,11 +287,12 @@ void Simulation::stage_coupling(double dt) {
     // Momentum correction (Eq. 4.30-4.32): the coupled rows' correction velocity dv = (target - xbar)/dt
     // goes to the grid once more, mass-weighted with the weights of this step (positions x^n), and every
     // follower control point near the seam takes the interpolated correction for its second advection.
+    const std::vector<Eigen::Vector3d>& start = start_positions_[static_cast<size_t>(c.follower_patch)];
     std::unordered_map<uint32_t, Eigen::Vector3d> node_correction;
     const double inv_dx = 1.0 / grid_.dx();
     for (size_t k = 0; k < rows.size(); ++k) {
       const auto p = static_cast<size_t>(rows[k]);
-      const Eigen::Vector3d xn = follower.x[p] - dt * follower.v[p];
+      const Eigen::Vector3d& xn = start[p];
       const Eigen::Vector3d dv = (target[k] - follower.x[p]) / dt;  // Eq. 4.30
       const double m = transfer_mass_[static_cast<size_t>(c.follower_patch)][p];
       const mpm::StencilWeights sw = mpm::stencil_weights(xn, inv_dx);
@@ -302,7 +308,7 @@ void Simulation::stage_coupling(double dt) {
     }
     for (int k : spec.follower_neighbours) {  // Eq. 4.32 and the second advection
       const auto p = static_cast<size_t>(k);
-      const Eigen::Vector3d xn = follower.x[p] - dt * follower.v[p];
+      const Eigen::Vector3d& xn = start[p];
       const mpm::StencilWeights sw = mpm::stencil_weights(xn, inv_dx);
       const auto nodes = grid_.stencil_nodes(xn);
       Eigen::Vector3d dv = Eigen::Vector3d::Zero();

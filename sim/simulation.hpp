@@ -108,7 +108,8 @@ class Simulation {
   StageTimer timer_;
   std::vector<std::unique_ptr<crack2d::ConsistentCrackExtractor>> cracks_;  // per shell, null if it cannot crack
   shell::MlsSettings mls_settings_;
-  std::vector<size_t> damaged_count_;  // per shell: fully damaged points at the last extraction
+  std::vector<size_t> damaged_count_;
+  std::vector<std::vector<Eigen::Vector3d>> start_positions_;  // x^n of follower patches (coupling)  // per shell: fully damaged points at the last extraction
   mpm::PhantomLayout phantoms_;
   // Visibility between particle pairs depends only on their parameter coordinates and the crack, so it
   // is cached across steps (per thread) and dropped when any crack grows.
