@@ -388,6 +388,13 @@ double ShellPatch::max_plastic_strain() const {
   return m;
 }
 
+SurfaceJet ShellPatch::point_jet(size_t q, std::vector<const Vec3*>& pts) const {
+  const BasisView b = point_basis(q);
+  pts.resize(static_cast<size_t>(b.n));
+  for (int s = 0; s < b.n; ++s) pts[static_cast<size_t>(s)] = &x[static_cast<size_t>(b.index[s])];
+  return surface_jet(pts.data(), b.basis + 1, b.n, kBasisStride);
+}
+
 double ShellPatch::elastic_energy() const {
   const size_t L = layers_.xi3.size();
   std::vector<double> per_point(param_.size(), 0.0);
@@ -395,10 +402,7 @@ double ShellPatch::elastic_energy() const {
     std::vector<const Vec3*> pts;
     for (size_t q = r.begin(); q != r.end(); ++q) {
       if (point_slot_[q] == kMlsFailed) continue;
-      const BasisView b = point_basis(q);
-      pts.resize(static_cast<size_t>(b.n));
-      for (int s = 0; s < b.n; ++s) pts[static_cast<size_t>(s)] = &x[static_cast<size_t>(b.index[s])];
-      const SurfaceJet jet = surface_jet(pts.data(), b.basis + 1, b.n, kBasisStride);
+      const SurfaceJet jet = point_jet(q, pts);
       NormalJet nj;
       if (!normal_jet(jet, nj)) {
         per_point[q] = std::numeric_limits<double>::quiet_NaN();
@@ -440,10 +444,7 @@ std::vector<double> ShellPatch::mid_surface_stress() const {
     std::vector<const Vec3*> pts;
     for (size_t q = r.begin(); q != r.end(); ++q) {
       if (point_slot_[q] == kMlsFailed) continue;
-      const BasisView b = point_basis(q);
-      pts.resize(static_cast<size_t>(b.n));
-      for (int s = 0; s < b.n; ++s) pts[static_cast<size_t>(s)] = &x[static_cast<size_t>(b.index[s])];
-      const SurfaceJet jet = surface_jet(pts.data(), b.basis + 1, b.n, kBasisStride);
+      const SurfaceJet jet = point_jet(q, pts);
       const InPlaneStress st = neo_hookean_in_plane(jet.a1, jet.a2, ref_[q * L + L / 2], material_.mu, material_.lambda,
                                                     material_.transverse);
       if (!st.ok) continue;

@@ -208,6 +208,8 @@ class ShellPatch {
   // const: the force target they expose is written only by compute_forces.
   BasisView point_basis(size_t q) const;
   BasisView slot_view(int32_t slot) const;
+  // Mid-surface jet of in-plane point q from its NURBS or MLS basis (pts: scratch).
+  SurfaceJet point_jet(size_t q, std::vector<const Vec3*>& pts) const;
   BasisView shear_basis(size_t c) const;
   // Type III force of cell c on its support control points and its grid stress term.
   bool add_shear_force(size_t c);

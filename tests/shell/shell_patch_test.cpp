@@ -12,24 +12,9 @@ namespace shellfrac::shell {
 namespace {
 
 using test::material;
+using test::energy_gradient_mismatch;
 using test::max_norm;
 
-// Largest difference between `force` and minus the central-difference energy gradient, over every
-// `stride`-th control point.
-double energy_gradient_mismatch(ShellPatch& p, const std::vector<Vec3>& force, size_t stride) {
-  double worst = 0;
-  for (size_t i = 0; i < p.x.size(); i += stride)
-    for (int c = 0; c < 3; ++c) {
-      const double h = 1e-6, x0 = p.x[i][c];
-      p.x[i][c] = x0 + h;
-      const double ep = p.elastic_energy();
-      p.x[i][c] = x0 - h;
-      const double em = p.elastic_energy();
-      p.x[i][c] = x0;
-      worst = std::max(worst, std::abs(-(ep - em) / (2 * h) - force[i][c]));
-    }
-  return worst;
-}
 
 TEST(ShellPatch, CountsAndMassFollowTheThesisLayout) {
   const ShellPatch p(nurbs::flat_patch(2.0, 1.0, 8, 4), material(1e6, 0.3, 0.01));
