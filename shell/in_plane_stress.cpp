@@ -68,8 +68,21 @@ double condensed_fibre_stretch(double J, double mu, double lambda) {
   return l;
 }
 
+namespace {
+
+double fibre_stretch(TransverseModel model, double J, double mu, double lambda, double given) {
+  switch (model) {
+    case TransverseModel::Condensed: return condensed_fibre_stretch(J, mu, lambda);
+    case TransverseModel::Given: return given;
+    case TransverseModel::Rigid: break;
+  }
+  return 1.0;
+}
+
+}  // namespace
+
 InPlaneStress neo_hookean_in_plane(const Vec3& g1, const Vec3& g2, const ReferenceLayer& ref, double mu,
-                                   double lambda, TransverseModel model) {
+                                   double lambda, TransverseModel model, double given_lambda3) {
   InPlaneStress s{};
   const double c11 = g1.squaredNorm(), c12 = g1.dot(g2), c22 = g2.squaredNorm();
   const double det = c11 * c22 - c12 * c12;
@@ -78,7 +91,7 @@ InPlaneStress neo_hookean_in_plane(const Vec3& g1, const Vec3& g2, const Referen
   if (!(s.J > 0) || !std::isfinite(s.J)) return s;
   const double inv = 1.0 / det;
   const double i11 = c22 * inv, i12 = -c12 * inv, i22 = c11 * inv;  // deformed g^{ab}
-  s.lambda3 = model == TransverseModel::Condensed ? condensed_fibre_stretch(s.J, mu, lambda) : 1.0;
+  s.lambda3 = fibre_stretch(model, s.J, mu, lambda, given_lambda3);
   const double p = lambda * std::log(s.J * s.lambda3);
   s.t11 = mu * (ref.g11 - i11) + p * i11;
   s.t12 = mu * (ref.g12 - i12) + p * i12;
@@ -88,10 +101,10 @@ InPlaneStress neo_hookean_in_plane(const Vec3& g1, const Vec3& g2, const Referen
 }
 
 double neo_hookean_in_plane_energy(const Vec3& g1, const Vec3& g2, const ReferenceLayer& ref, double mu,
-                                   double lambda, TransverseModel model) {
+                                   double lambda, TransverseModel model, double given_lambda3) {
   const double c11 = g1.squaredNorm(), c12 = g1.dot(g2), c22 = g2.squaredNorm();
   const double J = std::sqrt(c11 * c22 - c12 * c12) / ref.sqrt_det;
-  const double l3 = model == TransverseModel::Condensed ? condensed_fibre_stretch(J, mu, lambda) : 1.0;
+  const double l3 = fibre_stretch(model, J, mu, lambda, given_lambda3);
   // tr(C) = gbar^{ab} g_ab + lambda_3^2, ln det F = ln(J lambda_3)   (Eq. 2.3)
   const double trC = ref.g11 * c11 + 2.0 * ref.g12 * c12 + ref.g22 * c22 + l3 * l3;
   const double lnJ = std::log(J * l3);

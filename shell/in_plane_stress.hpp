@@ -18,6 +18,9 @@ enum class TransverseModel {
   // vanishes (sigma_33 = 0), which is the plane-stress state the zero-transverse-stress condition asks
   // for; the projection of Eq. 4.11-4.14 then removes what is left. Matches plane-stress Neo-Hookean.
   Condensed,
+  // The fibre stretch is supplied by the caller and held fixed (the Jiang et al. 2017 comparison model
+  // takes it from its Type III director: lambda_3 = r_33).
+  Given,
 };
 
 // Neo-Hookean first Piola-Kirchhoff stress (thesis Eq. 2.6).
@@ -51,14 +54,15 @@ struct InPlaneStress {
   double lambda3;        // fibre stretch used
   bool ok;               // false for an inverted or degenerate layer (J <= 0)
 };
+// given_lambda3 is used only with TransverseModel::Given.
 InPlaneStress neo_hookean_in_plane(const Vec3& g1, const Vec3& g2, const ReferenceLayer& ref, double mu,
-                                   double lambda, TransverseModel model);
+                                   double lambda, TransverseModel model, double given_lambda3 = 1.0);
 
 // Fibre stretch lambda_3 with mu (lambda_3^2 - 1) + lambda ln(J lambda_3) = 0 (zero normal stress).
 double condensed_fibre_stretch(double J, double mu, double lambda);
 
 // Energy density of the same model (for verification and diagnostics).
 double neo_hookean_in_plane_energy(const Vec3& g1, const Vec3& g2, const ReferenceLayer& ref, double mu,
-                                   double lambda, TransverseModel model);
+                                   double lambda, TransverseModel model, double given_lambda3 = 1.0);
 
 }  // namespace shellfrac::shell

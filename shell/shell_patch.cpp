@@ -206,6 +206,16 @@ Vec3 ShellPatch::shear_particle_frame(size_t c, Vec3& a1, Vec3& a2) const {
   return pos;
 }
 
+double ShellPatch::director_stretch(size_t c) const {
+  Vec3 a1, a2;
+  shear_particle_frame(c, a1, a2);
+  Mat3 d;
+  d << a1, a2, shear.director[c];
+  Mat3 Q, R;
+  qr_oriented(d * shear.reference_inverse[c], Q, R);
+  return R(2, 2);
+}
+
 void ShellPatch::update_shear_particles(double dt) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, num_cells_, 64), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t c = r.begin(); c != r.end(); ++c) {
@@ -232,8 +242,11 @@ ForceFailure ShellPatch::compute_forces() {
   const double mu = material_.mu, lambda = material_.lambda;
   const StressModel stress_model = material_.stress_model;
   const bool plane_strain = stress_model == StressModel::PlaneStrain;
-  const bool mid_surface = stress_model == StressModel::MidSurface2D;
-  const TransverseModel model = stress_model == StressModel::KirchhoffLove ? material_.transverse : TransverseModel::Rigid;
+  const bool with_director = stress_model == StressModel::DirectorF2D;
+  const bool mid_surface = stress_model == StressModel::MidSurface2D || with_director;
+  const TransverseModel model = stress_model == StressModel::KirchhoffLove ? material_.transverse
+                                : with_director                         ? TransverseModel::Given
+                                                                        : TransverseModel::Rigid;
   const bool plastic = material_.plasticity.enabled;
   const bool fracturing = !damage_.empty();
   const bool monotone = material_.fracture.rule == DamageRule::Monotone;
@@ -246,6 +259,7 @@ ForceFailure ShellPatch::compute_forces() {
     for (size_t c = r.begin(); c != r.end(); ++c) {
       Vec3* cell_out = &cell_force_[c * static_cast<size_t>(support_size_)];
       for (int s = 0; s < support_size_; ++s) cell_out[s].setZero();
+      const double r33 = with_director ? director_stretch(c) : 1.0;  // Jiang 2017: J = J_2D r_33
       for (size_t q = c * points_per_cell_; q < (c + 1) * points_per_cell_; ++q) {
         if (point_slot_[q] == kMlsFailed) continue;  // singular MLS support: dropped and reported
         const BasisView b = point_basis(q);
@@ -268,7 +282,7 @@ ForceFailure ShellPatch::compute_forces() {
           // Plastic materials: return-map the current (trial) state first; it needs the same kinematics.
           if (plastic)
             von_mises_return(g1, g2, mu, lambda, material_.plasticity, ref_[q * L + l], plastic_strain_[q * L + l]);
-          const InPlaneStress st = neo_hookean_in_plane(g1, g2, ref, mu, lambda, model);
+          const InPlaneStress st = neo_hookean_in_plane(g1, g2, ref, mu, lambda, model, r33);
           if (!st.ok) {
             cell_failed[c] = 1;
             break;
@@ -410,15 +424,18 @@ double ShellPatch::elastic_energy() const {
       }
       // Plane strain and the 2D model have lambda_3 = 1 (the rigid energy); the KL projection changes the
       // stress, not the energy, so only the condensed default is an exact gradient of its energy.
-      const bool mid_surface = material_.stress_model == StressModel::MidSurface2D;
-      const TransverseModel model =
-          material_.stress_model == StressModel::KirchhoffLove ? material_.transverse : TransverseModel::Rigid;
+      const bool with_director = material_.stress_model == StressModel::DirectorF2D;
+      const bool mid_surface = material_.stress_model == StressModel::MidSurface2D || with_director;
+      const TransverseModel model = material_.stress_model == StressModel::KirchhoffLove ? material_.transverse
+                                    : with_director ? TransverseModel::Given
+                                                    : TransverseModel::Rigid;
+      const double r33 = with_director ? director_stretch(cell_of(q)) : 1.0;
       for (size_t l = 0; l < L; ++l) {
         const double xi3 = mid_surface ? 0.0 : layers_.xi3[l];
         per_point[q] += volume_[q * L + l] *
                         neo_hookean_in_plane_energy(jet.a1 + xi3 * nj.dn1, jet.a2 + xi3 * nj.dn2,
                                                     ref_[q * L + (mid_surface ? L / 2 : l)], material_.mu,
-                                                    material_.lambda, model);
+                                                    material_.lambda, model, r33);
       }
     }
   });

@@ -30,6 +30,10 @@ enum class StressModel {
   // Jiang et al. 2017 style: a 2D deformation gradient of the mid-surface and a 2D Neo-Hookean energy,
   // extrapolated through the thickness; the Type IV points carry no bending (the mid-surface metric only).
   MidSurface2D,
+  // Jiang et al. 2017 with its third column: F = [a_1 a_2 d_3] D^-1 with d_3 the cell's Type III
+  // director, so J = J_2D r_33 sees the director's compression r_33 (held fixed in the force pass).
+  // Otherwise as MidSurface2D.
+  DirectorF2D,
 };
 
 // Material constants a shell patch needs for its forces.
@@ -187,6 +191,9 @@ class ShellPatch {
   const int* support(size_t cell) const { return &support_[cell * support_size_]; }
   int support_size() const { return support_size_; }
   size_t cell_of(size_t q) const { return q / points_per_cell_; }
+
+  // r_33 of the QR decomposition of cell c's Type III F = [a_1 a_2 d_3] D^-1 (the director's normal stretch).
+  double director_stretch(size_t c) const;
 
  private:
   void build_quadrature(const QuadratureRule& rule);

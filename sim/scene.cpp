@@ -203,10 +203,12 @@ Material read_material(ObjectReader r) {
   }
   const std::string transverse = r.choice_or("transverse", "condensed", {"condensed", "rigid"});
   m.transverse = transverse == "rigid" ? shell::TransverseModel::Rigid : shell::TransverseModel::Condensed;
-  const std::string model = r.choice_or("stress_model", "kirchhoff_love", {"kirchhoff_love", "plane_strain", "2d_f"});
-  m.stress_model = model == "plane_strain" ? shell::StressModel::PlaneStrain
-                   : model == "2d_f"       ? shell::StressModel::MidSurface2D
-                                           : shell::StressModel::KirchhoffLove;
+  const std::string model =
+      r.choice_or("stress_model", "kirchhoff_love", {"kirchhoff_love", "plane_strain", "2d_f", "2d_f_director"});
+  m.stress_model = model == "plane_strain"    ? shell::StressModel::PlaneStrain
+                   : model == "2d_f"          ? shell::StressModel::MidSurface2D
+                   : model == "2d_f_director" ? shell::StressModel::DirectorF2D
+                                              : shell::StressModel::KirchhoffLove;
   if (m.stress_model != shell::StressModel::KirchhoffLove && m.plasticity.enabled)
     r.fail("stress_model", "plasticity needs \"stress_model\": \"kirchhoff_love\" (the comparison models are elastic)");
   if (auto frac = r.optional_object("fracture")) m.fracture = read_fracture(*frac);

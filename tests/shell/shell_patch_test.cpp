@@ -205,5 +205,30 @@ TEST(ShellPatch, MidSurfaceModelIsTheMembraneOfTheRigidFibreShell) {
   EXPECT_GT(shell.elastic_energy(), 1.01 * p2d.elastic_energy());
 }
 
+TEST(ShellPatch, DirectorModelSeesTheDirectorsNormalStretch) {
+  // The Jiang 2017 model with F = [a_1 a_2 d_3] D^-1: compressing every Type III director to r_33 = 0.8
+  // changes only the volume ratio, J = J_2D r_33. At rest the Type IV energy then differs from the 2D
+  // mid-surface model by V (mu/2 (r33^2 - 1) - mu ln r33 + lambda/2 ln^2 r33) (Neo-Hookean, Eq. 2.3).
+  const nurbs::NurbsSurface flat = nurbs::flat_patch(1.0, 0.6, 6, 4);
+  ShellMaterial mid = material(1e6, 0.3, 0.02), director = mid;
+  mid.stress_model = StressModel::MidSurface2D;
+  director.stress_model = StressModel::DirectorF2D;
+  ShellPatch p2d(flat, mid), pd(flat, director);
+  const double r33 = 0.8;
+  for (ShellPatch* p : {&p2d, &pd})
+    for (Vec3& d : p->shear.director) d *= r33;
+  for (size_t c = 0; c < pd.shear.director.size(); ++c) EXPECT_NEAR(pd.director_stretch(c), r33, 1e-14);
+  const double mu = director.mu, lambda = director.lambda, l = std::log(r33);
+  const double expected = pd.reference_volume() * (0.5 * mu * (r33 * r33 - 1) - mu * l + 0.5 * lambda * l * l);
+  EXPECT_NEAR(pd.elastic_energy() - p2d.elastic_energy(), expected, 1e-9 * std::abs(expected));
+  // In-plane motions keep the normal, hence r_33: there the forces are the exact energy gradient.
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(-0.04, 0.04);
+  for (auto& x : pd.x) x += Vec3(u(rng), u(rng), 0);
+  ASSERT_FALSE(pd.compute_forces().failed);
+  const std::vector<Vec3> f = pd.force;
+  EXPECT_LE(energy_gradient_mismatch(pd, f, 3, 2), 1e-6 * max_norm(f));
+}
+
 }  // namespace
 }  // namespace shellfrac::shell

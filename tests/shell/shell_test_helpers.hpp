@@ -25,11 +25,12 @@ inline double max_norm(const std::vector<Vec3>& f) {
 }
 
 // Largest difference between `force` and minus the central-difference energy gradient, over every
-// `stride`-th control point.
-inline double energy_gradient_mismatch(ShellPatch& p, const std::vector<Vec3>& force, size_t stride) {
+// `stride`-th control point, in the first `components` coordinates (x, y, z).
+inline double energy_gradient_mismatch(ShellPatch& p, const std::vector<Vec3>& force, size_t stride,
+                                       int components = 3) {
   double worst = 0;
   for (size_t i = 0; i < p.x.size(); i += stride)
-    for (int c = 0; c < 3; ++c) {
+    for (int c = 0; c < components; ++c) {
       const double h = 1e-6, x0 = p.x[i][c];
       p.x[i][c] = x0 + h;
       const double ep = p.elastic_energy();
