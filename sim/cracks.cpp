@@ -79,14 +79,7 @@ void Simulation::init_cracks() {
         crack_stats_.first_mls_failure = "shell \"" + s.name + "\" " + u.first_failure;
     }
   }
-  crack_stats_.crack_edges = 0;
-  crack_stats_.mls_points = crack_stats_.mls_failures = 0;
-  for (size_t i = 0; i < patches_.size(); ++i)
-    if (cracks_[i]) {
-      crack_stats_.crack_edges += cracks_[i]->graph().num_edges();
-      crack_stats_.mls_points += patches_[i].num_mls_points();
-      crack_stats_.mls_failures += patches_[i].num_mls_failures();
-    }
+  count_crack_state();
 }
 
 void Simulation::stage_cracks() {
@@ -94,6 +87,7 @@ void Simulation::stage_cracks() {
   for (const auto& c : cracks_) any = any || c;
   if (!any) return;
   auto scope = timer_.time("cracks");
+  const size_t edges_before = crack_stats_.crack_edges;
   crack_stats_.crack_edges = crack_stats_.mls_points = crack_stats_.mls_failures = 0;
   for (size_t i = 0; i < patches_.size(); ++i) {
     if (!cracks_[i]) continue;
@@ -120,6 +114,20 @@ void Simulation::stage_cracks() {
     crack_stats_.mls_points += patch.num_mls_points();
     crack_stats_.mls_failures += patch.num_mls_failures();
   }
+  if (crack_stats_.crack_edges != edges_before && !scene_.interfaces.empty()) {
+    update_seam_cracks();  // may continue a crack into a coupled neighbour
+    count_crack_state();
+  }
+}
+
+void Simulation::count_crack_state() {
+  crack_stats_.crack_edges = crack_stats_.mls_points = crack_stats_.mls_failures = 0;
+  for (size_t i = 0; i < patches_.size(); ++i)
+    if (cracks_[i]) {
+      crack_stats_.crack_edges += cracks_[i]->graph().num_edges();
+      crack_stats_.mls_points += patches_[i].num_mls_points();
+      crack_stats_.mls_failures += patches_[i].num_mls_failures();
+    }
 }
 
 void Simulation::partition_phantom_nodes() {
@@ -150,19 +158,28 @@ void Simulation::partition_phantom_nodes() {
     visibility_cache_segments_ = segments;
   }
   // Two particles are on the same fragment side locally when they belong to the same body and, on a
-  // shell, the parameter-space segment between them crosses no crack.
+  // shell, the parameter-space segment between them crosses no crack. Coupled patches are one body:
+  // there the path runs through the seam (seam_connected).
+  std::vector<unsigned char> coupled_patch(patches_.size(), 0);
+  for (const InterfaceSpec& spec : scene_.interfaces)
+    if (spec.coupled) coupled_patch[static_cast<size_t>(spec.coupling.leader_patch)] =
+                          coupled_patch[static_cast<size_t>(spec.coupling.follower_patch)] = 1;
+  auto visible = [&](uint32_t sa, uint32_t a, uint32_t sb, uint32_t b) {
+    if (sa / 2 != sb / 2) return seam_connected(sa / 2, parameter(sa, a), sb / 2, parameter(sb, b));
+    const crack2d::CrackIndex* index = patches_[sa / 2].crack();
+    return !index || !index->crosses(parameter(sa, a), parameter(sb, b));
+  };
   const mpm::Connectivity connected = [&](uint32_t sa, uint32_t a, uint32_t sb, uint32_t b) {
     if (sa >= shell_sets || sb >= shell_sets) return sa == sb;
-    if (sa / 2 != sb / 2) return false;
-    const crack2d::CrackIndex* index = patches_[sa / 2].crack();
-    if (!index) return true;
-    if (!cacheable) return !index->crosses(parameter(sa, a), parameter(sb, b));
+    if (sa / 2 != sb / 2 && !(coupled_patch[sa / 2] && coupled_patch[sb / 2])) return false;
+    if (sa / 2 == sb / 2 && !patches_[sa / 2].crack()) return true;
+    if (!cacheable) return visible(sa, a, sb, b);
     // Key: the two (set, particle) ids, smaller first (sets < 2^8, particles < 2^24 per set).
     uint64_t ka = (uint64_t{sa} << 24) | a, kb = (uint64_t{sb} << 24) | b;
     if (ka > kb) std::swap(ka, kb);
     VisibilityCache& cache = visibility_cache_->local();
     const auto [it, inserted] = cache.try_emplace((ka << 32) | kb, false);
-    if (inserted) it->second = !index->crosses(parameter(sa, a), parameter(sb, b));
+    if (inserted) it->second = visible(sa, a, sb, b);
     return it->second;
   };
   phantoms_ = mpm::partition_nodes(grid_, sets_, roles, connected);

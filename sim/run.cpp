@@ -13,6 +13,7 @@
 #include "render_mesh/exporter.hpp"
 #include "sim/progress.hpp"
 #include "sim/scene_error.hpp"
+#include "sim/seam_metrics.hpp"
 #include "sim/simulation.hpp"
 #include "sim/version.hpp"
 
@@ -76,8 +77,10 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options, std::ost
   double penetration = 0, peak_kinetic = 0;
   long fragments = 0;  // connected components of the shells' render meshes in the last frame
   StageTimer output_timer;
+  SeamRecorder seams(scene);  // metrics.interfaces
   auto write_frame = [&](int f) {
     auto scope = output_timer.time("output");
+    seams.record(f, sim.time(), sim.patches());
     const auto meshes = sim.render_meshes();
     fragments = 0;
     for (size_t i = 0; i < scene.shells.size(); ++i) fragments += render_mesh::count_components(meshes[i]);
@@ -120,6 +123,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options, std::ost
     double plastic = 0;
     for (const auto& p : sim.patches()) plastic = std::max(plastic, p.max_plastic_strain());
     metrics["max_plastic_strain"] = plastic;
+    if (seams.active()) metrics["interfaces"] = seams.to_json();
     if (scene.has_cracks()) {
       const CrackStats& c = sim.crack_stats();
       double max_damage = 0;
@@ -132,6 +136,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options, std::ost
                            {"max_split_nodes", c.max_split_nodes},
                            {"contact_pairs", c.contact_pairs},
                            {"max_contact_residual", c.max_contact_residual},
+                           {"seam_continuations", c.seam_continuations},
                            {"max_damage", max_damage},
                            {"fragments", fragments}};
       if (!c.first_mls_failure.empty()) metrics["cracks"]["first_mls_failure"] = c.first_mls_failure;

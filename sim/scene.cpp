@@ -10,6 +10,7 @@
 #include "nurbs/patch_builders.hpp"
 #include "render_mesh/exporter.hpp"
 #include "sim/json_reader.hpp"
+#include "sim/quality.hpp"
 #include "sim/scene_parts.hpp"
 
 namespace shellfrac::sim {
@@ -330,6 +331,7 @@ Scene parse_scene(const std::string& json_text, const std::string& source) {
     throw SceneError(source, "", "invalid JSON at " + line_col(json_text, e.byte ? e.byte - 1 : 0) +
                                      ": " + std::string(e.what()));
   }
+  apply_quality(j, source);  // "quality" presets rewrite the document before it is read
   ObjectReader root(j, "", source);
   Scene scene;
   scene.source = source;
@@ -354,7 +356,8 @@ Scene parse_scene(const std::string& json_text, const std::string& source) {
   if (scene.shells.empty() && scene.solids.empty()) root.fail("shells", "a scene needs at least one shell or solid");
   scene.colliders = read_colliders(root);
   scene.pins = read_pins(root, scene.shells);
-  scene.interfaces = read_interfaces(root, scene.shells);
+  for (InterfaceSpec& spec : read_interfaces(root, scene.shells))
+    (spec.coupled ? scene.interfaces : scene.uncoupled_seams).push_back(std::move(spec));
   root.finish();
   return scene;
 }

@@ -106,11 +106,28 @@ struct Pin {
   std::string json_path;  // where the pin was defined, for messages
 };
 
+// One pass/fail limit of `shellfrac verify coupling`: no value takes the default (sim/seam_metrics.hpp),
+// checked = false (JSON null) turns the check off.
+struct VerifyLimit {
+  std::optional<double> value;
+  bool checked = true;
+};
+
+// The interface's "verify" object: limits on the measured seam (sim/seam_metrics.hpp).
+struct InterfaceVerify {
+  VerifyLimit max_gap;            // [m]
+  VerifyLimit max_angle_degrees;  // between the two patches' normals along the seam
+  VerifyLimit max_stress_ratio;   // seam stress over the patch median
+};
+
 // Two patch edges coupled C0 or C1 (thesis sec. 4.8); the coupling operators are built when the scene is
 // read, so a bad interface (edges that do not meet, mismatched degrees) is bad input.
 struct InterfaceSpec {
   coupling::Interface coupling;
   std::string json_path;
+  // False for "continuity": "none": the seam is only measured (Scene::uncoupled_seams), never coupled.
+  bool coupled = true;
+  InterfaceVerify verify;
   // Momentum-correction velocity of thesis Eq. 4.30-4.32 (on by default); off only for comparisons.
   bool momentum_correction = true;
   // Follower control points near the seam that receive the corrected velocity from the grid (Eq. 4.32):
@@ -158,6 +175,9 @@ struct Scene {
   std::vector<Pin> pins;
   CrackSettings cracks;
   std::vector<InterfaceSpec> interfaces;
+  // Interfaces declared with "continuity": "none": the edges are checked and measured like the coupled
+  // ones (seam metrics, `verify coupling`) but the simulation leaves them free.
+  std::vector<InterfaceSpec> uncoupled_seams;
   // True when any shell can crack (fracture material or prescribed cuts).
   bool has_cracks() const {
     for (const Shell& s : shells)

@@ -213,6 +213,31 @@ std::vector<Pin> read_pins(ObjectReader& root, const std::vector<Shell>& shells)
 
 namespace shellfrac::sim {
 
+namespace {
+
+// A limit of the interface's "verify" object: a number in `range`, or null to switch the check off.
+VerifyLimit read_verify_limit(ObjectReader& r, const std::string& key, const Range& range) {
+  VerifyLimit limit;
+  if (!r.has(key)) return limit;
+  if (r.raw(key).is_null()) {
+    limit.checked = false;
+    return limit;
+  }
+  limit.value = r.number(key, range);
+  return limit;
+}
+
+InterfaceVerify read_interface_verify(ObjectReader& r) {
+  InterfaceVerify v;
+  v.max_gap = read_verify_limit(r, "max_gap", Range::non_negative());
+  v.max_angle_degrees = read_verify_limit(r, "max_angle_degrees", Range::closed(0.0, 180.0));
+  v.max_stress_ratio = read_verify_limit(r, "max_stress_ratio", Range::positive());
+  r.finish();
+  return v;
+}
+
+}  // namespace
+
 std::vector<InterfaceSpec> read_interfaces(ObjectReader& root, const std::vector<Shell>& shells) {
   std::vector<InterfaceSpec> out;
   if (!root.has("interfaces")) return out;
@@ -234,13 +259,17 @@ std::vector<InterfaceSpec> read_interfaces(ObjectReader& root, const std::vector
     read_edge("b", b, sb);
     if (a == b) r.fail("b", "an interface couples two different shells");
     coupling::InterfaceOptions options;
-    options.continuity = r.choice_or("continuity", "C1", {"C0", "C1"}) == "C0" ? coupling::Continuity::C0
-                                                                              : coupling::Continuity::C1;
+    // "none" declares a seam that is measured but never coupled; its operators (C0) are built only to
+    // check the edges and to know which side leads.
+    const std::string continuity = r.choice_or("continuity", "C1", {"C0", "C1", "none"});
+    options.continuity = continuity == "C1" ? coupling::Continuity::C1 : coupling::Continuity::C0;
     options.tolerance = r.number_or("tolerance", 1e-8, Range::positive());
     const bool reversed = r.boolean_or("reversed", false);
     const bool correction = r.boolean_or("momentum_correction", true);
-    r.finish();
     InterfaceSpec spec;
+    if (auto v = r.optional_object("verify")) spec.verify = read_interface_verify(*v);
+    spec.coupled = continuity != "none";
+    r.finish();
     try {
       spec.coupling = coupling::make_interface(shells[a].surface, static_cast<int>(a), sa, shells[b].surface,
                                                static_cast<int>(b), sb, reversed, options);

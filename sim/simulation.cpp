@@ -133,6 +133,7 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), grid_(1.0) {
   for (auto& solid : solids_) sets_.push_back(solid.view());
   start_positions_.resize(patches_.size());
   init_cracks();
+  init_seams();
 }
 
 double Simulation::stable_dt() const {
@@ -271,17 +272,28 @@ void Simulation::stage_g2p(double dt) {
 void Simulation::stage_coupling(double dt) {
   if (scene_.interfaces.empty()) return;
   auto scope = timer_.time("coupling");
-  for (const InterfaceSpec& spec : scene_.interfaces) {
-    const coupling::Interface& c = spec.coupling;
+  for (size_t i = 0; i < scene_.interfaces.size(); ++i) {
+    const InterfaceSpec& spec = scene_.interfaces[i];
+    if (!spec.coupled) continue;
+    const coupling::Interface& c = seams_[i].cut ? *seams_[i].cut : spec.coupling;
     shell::ShellPatch& leader = patches_[static_cast<size_t>(c.leader_patch)];
     shell::ShellPatch& follower = patches_[static_cast<size_t>(c.follower_patch)];
-    // Targets of the coupled follower rows from the advected leader (thesis Eq. 4.29, 4.34).
+    // Targets of the coupled follower rows from the advected leader (thesis Eq. 4.29, 4.34), for
+    // positions and (the operators are linear) velocities; rows a crack released move on their own.
     const std::vector<Eigen::Vector3d> target = c.follower_positions(leader.x);
+    const std::vector<Eigen::Vector3d> target_v = c.follower_positions(leader.v);
+    const std::vector<unsigned char>& released = seams_[i].released;
     std::vector<int> rows = c.follower_row1;
     if (c.continuity == coupling::Continuity::C1) rows.insert(rows.end(), c.follower_row2.begin(), c.follower_row2.end());
+    auto set_rows = [&] {  // the coupled rows sit exactly on their targets, moving with the leader
+      for (size_t k = 0; k < rows.size(); ++k)
+        if (!released[k]) {
+          follower.x[static_cast<size_t>(rows[k])] = target[k];
+          follower.v[static_cast<size_t>(rows[k])] = target_v[k];
+        }
+    };
     if (!spec.momentum_correction) {  // positions only: the velocity field is discontinuous at the seam
-      for (size_t k = 0; k < rows.size(); ++k) follower.x[static_cast<size_t>(rows[k])] = target[k];
-      c.apply(leader.v, follower.v);
+      set_rows();
       continue;
     }
     // Momentum correction (Eq. 4.30-4.32): the coupled rows' correction velocity dv = (target - xbar)/dt
@@ -291,6 +303,7 @@ void Simulation::stage_coupling(double dt) {
     std::unordered_map<uint32_t, Eigen::Vector3d> node_correction;
     const double inv_dx = 1.0 / grid_.dx();
     for (size_t k = 0; k < rows.size(); ++k) {
+      if (released[k]) continue;
       const auto p = static_cast<size_t>(rows[k]);
       const Eigen::Vector3d& xn = start[p];
       const Eigen::Vector3d dv = (target[k] - follower.x[p]) / dt;  // Eq. 4.30
@@ -319,9 +332,7 @@ void Simulation::stage_coupling(double dt) {
       follower.v[p] += dv;
       follower.x[p] += dt * dv;
     }
-    // The coupled rows sit exactly on their targets; their velocity follows the leader's.
-    for (size_t k = 0; k < rows.size(); ++k) follower.x[static_cast<size_t>(rows[k])] = target[k];
-    c.apply(leader.v, follower.v);
+    set_rows();
   }
 }
 

@@ -2,6 +2,7 @@
 #include <tbb/enumerable_thread_specific.h>
 
 #include <memory>
+#include <optional>
 #include <unordered_map>
 #include <string>
 #include <vector>
@@ -28,6 +29,7 @@ struct CrackStats {
   size_t max_split_nodes = 0;      // largest number of grid nodes with phantom copies in one step
   size_t contact_pairs = 0;        // pairwise fragment contacts resolved (Eq. 4.23-4.26), all steps
   double max_contact_residual = 0; // largest approaching velocity left after contact
+  size_t seam_continuations = 0;   // cracks continued across a coupled seam into the neighbour patch
 };
 
 // A running scene: the Kirchhoff-Love shell patches on a sparse MPM grid (thesis sec. 4.3.2), advanced
@@ -75,6 +77,8 @@ class Simulation {
   // The render mesh of every shell at the current state (the scene's output resolution).
   std::vector<render_mesh::PolyMesh> render_meshes() const;
   const CrackStats& crack_stats() const { return crack_stats_; }
+  // Follower control points of scene interface i that a crack across the seam has released.
+  size_t released_seam_points(size_t i) const;
   // Crack graph of shell i, or null when the shell cannot crack.
   const crack2d::CrackGraph* crack_graph(size_t shell) const {
     return cracks_[shell] ? &cracks_[shell]->graph() : nullptr;
@@ -91,6 +95,10 @@ class Simulation {
   void stage_cracks();
   void stage_coupling(double dt);
   void init_cracks();
+  void count_crack_state();  // crack_stats_ counts of the current graphs and MLS points
+  void init_seams();
+  void update_seam_cracks();
+  bool seam_connected(size_t patch_a, const Eigen::Vector2d& uv_a, size_t patch_b, const Eigen::Vector2d& uv_b) const;
   void partition_phantom_nodes();
   void apply_pins(double t_new);
   void check_finite() const;
@@ -110,6 +118,15 @@ class Simulation {
   shell::MlsSettings mls_settings_;
   std::vector<size_t> damaged_count_;
   std::vector<std::vector<Eigen::Vector3d>> start_positions_;  // x^n of follower patches (coupling)  // per shell: fully damaged points at the last extraction
+  // Per scene interface: where cracks meet the seam and which coupled follower rows they released.
+  struct SeamState {
+    std::vector<double> leader_along;    // seam coordinate of each leader edge control point
+    std::vector<double> follower_along;  // of each follower edge control point (row 1)
+    std::vector<double> cracks;          // seam coordinates where a crack of either patch meets the seam
+    std::vector<unsigned char> released; // per follower row entry: the crack separated it from its leaders
+    std::optional<coupling::Interface> cut;  // the operators with the crack's connections dropped
+  };
+  std::vector<SeamState> seams_;
   mpm::PhantomLayout phantoms_;
   // Visibility between particle pairs depends only on their parameter coordinates and the crack, so it
   // is cached across steps (per thread) and dropped when any crack grows.

@@ -6,6 +6,8 @@
 #include <iostream>
 #include <string>
 
+#include "apps/shellfrac/bench_command.hpp"
+#include "apps/shellfrac/verify_command.hpp"
 #include "sim/run.hpp"
 #include "sim/simulation.hpp"
 #include "sim/scene.hpp"
@@ -48,6 +50,9 @@ int main(int argc, char** argv) {
                                                   "summary, or the first problem with its JSON path.");
   validate->add_option("scene", validate_path, "Scene file (JSON)")->required();
 
+  const auto run_verify = shellfrac::app::add_verify_command(app);  // verify coupling
+  const auto run_bench = shellfrac::app::add_bench_command(app);    // bench sweep / stability
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -55,6 +60,8 @@ int main(int argc, char** argv) {
     return code == 0 ? kExitOk : kExitBadInput;
   }
 
+  if (const auto code = run_verify()) return *code;
+  if (const auto code = run_bench()) return *code;
   try {
     if (*validate) {
       const auto scene = load(validate_path);

@@ -168,4 +168,58 @@ TEST(Cli, NumericalFailureExitsThreeAndKeepsFrames) {
   fs::remove_all(d);
 }
 
+// `verify coupling` on two tiny patches (4 and 8 cells along the seam, nested) in free fall for 0.1 s.
+std::string seam_scene(const std::string& interface_fields, const std::string& extra = "") {
+  return R"({"name": "tiny-seam", "time": {"end": 0.1, "frame_rate": 20}, "output": {"resolution": [2, 2]},
+    "shells": [
+      {"name": "left", "patch": {"type": "flat", "size": [0.5, 1.0], "cells": [2, 4], "origin": [-0.5, 0, 0]},
+       "thickness": 0.0005, "material": {"E": 1e5, "nu": 0.3, "density": 300}},
+      {"name": "right", "patch": {"type": "flat", "size": [0.5, 1.0], "cells": [2, 8], "origin": [0, 0, 0]},
+       "thickness": 0.0005, "material": {"E": 1e5, "nu": 0.3, "density": 300}}],
+    "interfaces": [{"a": {"shell": "left", "side": "u1"}, "b": {"shell": "right", "side": "u0"}, )" +
+         interface_fields + "}]" + extra + "}";
+}
+
+TEST(Cli, VerifyCouplingPassesAndFails) {
+  const fs::path d = scratch("verify");
+  EXPECT_EQ(shellfrac("verify coupling --help").exit_code, 0);
+  EXPECT_EQ(shellfrac("verify").exit_code, 2);
+  // C1 with the default limits: the nested seam stays closed and flat (the stress is not measured in
+  // free fall, which does not fail a check).
+  std::ofstream(d / "pass.json") << seam_scene(R"("continuity": "C1", "verify": {"max_gap": 1e-9})");
+  const Result pass = shellfrac("verify coupling " + (d / "pass.json").string() + " --out " + (d / "pass").string() +
+                                " --threads 1");
+  EXPECT_EQ(pass.exit_code, 0) << pass.output;
+  EXPECT_THAT(pass.output, HasSubstr("PASS"));
+  EXPECT_THAT(pass.output, HasSubstr("left.u1 -> right.u0"));
+  std::ifstream in(d / "pass" / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  const auto& seam = s["metrics"]["interfaces"].at(0);
+  EXPECT_EQ(seam["interface"], "/interfaces/0");
+  EXPECT_EQ(seam["continuity"], "C1");
+  EXPECT_EQ(seam["frames"].size(), 3u);
+  EXPECT_LE(seam["checks"]["gap"]["max"].get<double>(), 1e-9);
+  EXPECT_EQ(seam["checks"]["angle_degrees"]["limit"].get<double>(), 0.5);
+  EXPECT_TRUE(seam["pass"].get<bool>());
+  // Uncoupled, with the left half held at its far edge: only the shared grid nodes hold the free right
+  // half, and the seam opens (measured 0.35 mm in 0.1 s) beyond a strict 1 micrometre limit: exit 4.
+  std::ofstream(d / "fail.json") << seam_scene(R"("continuity": "none", "verify": {"max_gap": 1e-6})",
+                                               R"(, "pins": [{"shell": "left", "region": {"u": [0, 0.1]}}])");
+  const Result fail = shellfrac("verify coupling " + (d / "fail.json").string() + " --out " + (d / "fail").string() +
+                                " --threads 1");
+  EXPECT_EQ(fail.exit_code, 4) << fail.output;
+  EXPECT_THAT(fail.output, HasSubstr("FAIL"));
+  // Bad input stays exit 2: a scene without interfaces, a bad limit (with its JSON path).
+  std::ofstream(d / "none.json") << R"({"shells": [{"patch": {"type": "flat", "size": [1, 1], "cells": [2, 2]},
+    "thickness": 0.001, "material": {"E": 1e5, "nu": 0.3, "density": 100}}]})";
+  const Result none = shellfrac("verify coupling " + (d / "none.json").string() + " --out " + (d / "x").string());
+  EXPECT_EQ(none.exit_code, 2) << none.output;
+  EXPECT_THAT(none.output, HasSubstr("no interfaces"));
+  std::ofstream(d / "bad.json") << seam_scene(R"("verify": {"max_gap": -1})");
+  const Result bad = shellfrac("verify coupling " + (d / "bad.json").string() + " --out " + (d / "x").string());
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_THAT(bad.output, HasSubstr("/interfaces/0/verify/max_gap"));
+  fs::remove_all(d);
+}
+
 }  // namespace

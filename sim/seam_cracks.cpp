@@ -1,0 +1,169 @@
+// Cracks that cross a coupled seam (thesis sec. 4.8 with sec. 4.4): a crack reaching a coupled edge
+// continues into the neighbouring patch, the coupling lets go of the follower control points the crack
+// separates from their leaders, and the phantom-node partition treats two coupled patches as one body
+// that only a crack can split.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "coupling/seam_release.hpp"
+#include "sim/simulation.hpp"
+
+namespace shellfrac::sim {
+
+namespace {
+
+constexpr double kOnEdge = 1e-9;  // seam-chart distance under which a crack vertex lies on the edge
+
+struct SeamSide {
+  const nurbs::NurbsSurface* surface;
+  coupling::Side side;
+  bool flip;
+};
+
+SeamSide leader_side(const Scene& scene, const coupling::Interface& c) {
+  return {&scene.shells[static_cast<size_t>(c.leader_patch)].surface, c.leader_side, false};
+}
+SeamSide follower_side(const Scene& scene, const coupling::Interface& c) {
+  return {&scene.shells[static_cast<size_t>(c.follower_patch)].surface, c.follower_side, c.reversed};
+}
+
+coupling::SeamCoordinate seam_of(const SeamSide& s, const Eigen::Vector2d& uv) {
+  return coupling::seam_coordinate(*s.surface, s.side, s.flip, uv);
+}
+
+// A crack vertex on the seam edge, with the direction (seam chart) of the crack leaving it inward.
+struct SeamHit {
+  double along;
+  Eigen::Vector2d inward;
+};
+
+std::vector<SeamHit> seam_hits(const crack2d::CrackGraph& g, const SeamSide& s) {
+  std::vector<SeamHit> hits;
+  const auto& vertices = g.vertices();
+  for (const auto& e : g.edges())
+    for (int end = 0; end < 2; ++end) {
+      const Eigen::Vector2d a = vertices[static_cast<size_t>(e[end])], b = vertices[static_cast<size_t>(e[1 - end])];
+      const coupling::SeamCoordinate sa = seam_of(s, a);
+      if (std::abs(sa.across) > kOnEdge || sa.along < -kOnEdge || sa.along > 1 + kOnEdge) continue;
+      hits.push_back({sa.along, coupling::parameter_direction_to_seam(*s.surface, s.side, s.flip, b - a)});
+    }
+  return hits;
+}
+
+int cross_cells(const nurbs::NurbsSurface& s, coupling::Side side) {
+  const bool u_side = side == coupling::Side::U0 || side == coupling::Side::U1;
+  return u_side ? s.knots_u().num_spans() : s.knots_v().num_spans();
+}
+
+}  // namespace
+
+void Simulation::init_seams() {
+  seams_.assign(scene_.interfaces.size(), SeamState{});
+  for (size_t i = 0; i < scene_.interfaces.size(); ++i) {
+    const coupling::Interface& c = scene_.interfaces[i].coupling;
+    SeamState& st = seams_[i];
+    const SeamSide lead = leader_side(scene_, c), follow = follower_side(scene_, c);
+    const shell::ShellPatch& lp = patches_[static_cast<size_t>(c.leader_patch)];
+    const shell::ShellPatch& fp = patches_[static_cast<size_t>(c.follower_patch)];
+    for (int k : c.leader_row1) st.leader_along.push_back(seam_of(lead, lp.control_parameter(static_cast<size_t>(k))).along);
+    for (int k : c.follower_row1) st.follower_along.push_back(seam_of(follow, fp.control_parameter(static_cast<size_t>(k))).along);
+    st.released.assign(c.follower_row1.size() * (c.continuity == coupling::Continuity::C1 ? 2 : 1), 0);
+  }
+  update_seam_cracks();  // prescribed cuts may already reach a seam
+  count_crack_state();
+}
+
+void Simulation::update_seam_cracks() {
+  for (size_t i = 0; i < scene_.interfaces.size(); ++i) {
+    const InterfaceSpec& spec = scene_.interfaces[i];
+    if (!spec.coupled) continue;
+    const coupling::Interface& c = spec.coupling;
+    const size_t patch[2] = {static_cast<size_t>(c.leader_patch), static_cast<size_t>(c.follower_patch)};
+    const SeamSide side[2] = {leader_side(scene_, c), follower_side(scene_, c)};
+    if (!cracks_[patch[0]] && !cracks_[patch[1]]) continue;
+    // A crack that reaches the seam from one side continues into the other as a short cut straight
+    // across (the mirror image in the seam chart); the neighbour's own damage grows it from there.
+    for (int from = 0; from < 2; ++from) {
+      const int to = 1 - from;
+      if (!cracks_[patch[from]] || !cracks_[patch[to]]) continue;
+      const double cell_along = 1.0 / std::max(1, (side[to].side == coupling::Side::U0 || side[to].side == coupling::Side::U1
+                                                       ? side[to].surface->knots_v().num_spans()
+                                                       : side[to].surface->knots_u().num_spans()));
+      const double cell_across = 1.0 / std::max(1, cross_cells(*side[to].surface, side[to].side));
+      for (const SeamHit& h : seam_hits(cracks_[patch[from]]->graph(), side[from])) {
+        if (h.inward.y() <= 1e-3 * h.inward.norm()) continue;  // running along the seam: does not cross it
+        bool continued = false;
+        for (const SeamHit& other : seam_hits(cracks_[patch[to]]->graph(), side[to]))
+          continued = continued || std::abs(other.along - h.along) <= cell_along;
+        if (continued) continue;
+        // Mirror across the seam: the along component flips, the inward component stays inward.
+        Eigen::Vector2d dir(-h.inward.x(), h.inward.y());
+        dir *= 1.5 * cell_across / dir.y();  // one and a half cells deep into the neighbour
+        Eigen::Vector2d end_seam(h.along + dir.x(), dir.y());
+        end_seam.x() = std::clamp(end_seam.x(), 0.0, 1.0);
+        const Eigen::Vector2d start = coupling::seam_edge_parameter(*side[to].surface, side[to].side, side[to].flip,
+                                                                    std::clamp(h.along, 0.0, 1.0));
+        const Eigen::Vector2d end =
+            start + coupling::seam_direction_to_parameter(*side[to].surface, side[to].side, side[to].flip,
+                                                          end_seam - Eigen::Vector2d(h.along, 0.0));
+        const size_t first = cracks_[patch[to]]->graph().num_edges();
+        try {
+          cracks_[patch[to]]->add_prescribed_cut({start, end}, false);
+        } catch (const crack2d::CutError&) {
+          continue;  // degenerate continuation (at a corner): the neighbour's damage decides alone
+        }
+        ++crack_stats_.seam_continuations;
+        const shell::CrackUpdate u = patches_[patch[to]].update_crack(cracks_[patch[to]]->index(), first, mls_settings_);
+        if (crack_stats_.first_mls_failure.empty() && !u.first_failure.empty())
+          crack_stats_.first_mls_failure = "shell \"" + scene_.shells[patch[to]].name + "\" " + u.first_failure;
+      }
+    }
+    SeamState& st = seams_[i];
+    st.cracks.clear();
+    for (int k = 0; k < 2; ++k)
+      if (cracks_[patch[k]])
+        for (const SeamHit& h : seam_hits(cracks_[patch[k]]->graph(), side[k])) st.cracks.push_back(h.along);
+    if (st.cracks.empty()) continue;
+    coupling::SeamCut cut = coupling::cut_interface(c, st.follower_along, st.leader_along, st.cracks);
+    st.released = std::move(cut.released);
+    st.cut = std::move(cut.coupling);
+  }
+}
+
+size_t Simulation::released_seam_points(size_t i) const {
+  return static_cast<size_t>(std::count(seams_[i].released.begin(), seams_[i].released.end(), 1));
+}
+
+bool Simulation::seam_connected(size_t patch_a, const Eigen::Vector2d& uv_a, size_t patch_b,
+                                const Eigen::Vector2d& uv_b) const {
+  // The path between points of two coupled patches runs from each point straight to the seam, then
+  // along it; only a crack on one of the three pieces separates them. With several seams between the
+  // two patches (a closed cylinder) the nearest one decides.
+  double nearest = std::numeric_limits<double>::infinity();
+  bool connected = false;
+  for (size_t i = 0; i < scene_.interfaces.size(); ++i) {
+    const InterfaceSpec& spec = scene_.interfaces[i];
+    const coupling::Interface& c = spec.coupling;
+    const auto l = static_cast<size_t>(c.leader_patch), f = static_cast<size_t>(c.follower_patch);
+    if (!spec.coupled || !((l == patch_a && f == patch_b) || (l == patch_b && f == patch_a))) continue;
+    const SeamSide sa = l == patch_a ? leader_side(scene_, c) : follower_side(scene_, c);
+    const SeamSide sb = l == patch_a ? follower_side(scene_, c) : leader_side(scene_, c);
+    const coupling::SeamCoordinate ca = seam_of(sa, uv_a), cb = seam_of(sb, uv_b);
+    const double distance = ca.across + cb.across;
+    if (distance >= nearest) continue;
+    nearest = distance;
+    auto clear = [](const shell::ShellPatch& p, const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
+      return !p.crack() || !p.crack()->crosses(from, to);
+    };
+    const double lo = std::min(ca.along, cb.along), hi = std::max(ca.along, cb.along);
+    bool open = true;
+    for (double s : seams_[i].cracks) open = open && !(s > lo && s < hi);
+    connected = open &&
+                clear(patches_[patch_a], uv_a, coupling::seam_edge_parameter(*sa.surface, sa.side, sa.flip, ca.along)) &&
+                clear(patches_[patch_b], uv_b, coupling::seam_edge_parameter(*sb.surface, sb.side, sb.flip, cb.along));
+  }
+  return connected;
+}
+
+}  // namespace shellfrac::sim
