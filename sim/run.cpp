@@ -137,6 +137,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options, std::ost
                            {"contact_pairs", c.contact_pairs},
                            {"max_contact_residual", c.max_contact_residual},
                            {"seam_continuations", c.seam_continuations},
+                           {"body_fragments", sim.body_fragments()},
                            {"max_damage", max_damage},
                            {"fragments", fragments}};
       if (!c.first_mls_failure.empty()) metrics["cracks"]["first_mls_failure"] = c.first_mls_failure;

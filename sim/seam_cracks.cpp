@@ -131,6 +131,48 @@ void Simulation::update_seam_cracks() {
   }
 }
 
+size_t Simulation::body_fragments() const {
+  // Union-find over every shell control point: neighbours on a patch's control grid are joined unless
+  // a crack separates their parameter points; across a coupled seam each follower edge point joins the
+  // leader points its (cut) operator row still uses.
+  std::vector<size_t> offset(patches_.size() + 1, 0);
+  for (size_t i = 0; i < patches_.size(); ++i) offset[i + 1] = offset[i] + patches_[i].x.size();
+  std::vector<size_t> parent(offset.back());
+  for (size_t k = 0; k < parent.size(); ++k) parent[k] = k;
+  auto find = [&](size_t a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  };
+  auto join = [&](size_t a, size_t b) { parent[find(a)] = find(b); };
+  for (size_t i = 0; i < patches_.size(); ++i) {
+    const shell::ShellPatch& p = patches_[i];
+    const int nu = scene_.shells[i].surface.num_u(), nv = scene_.shells[i].surface.num_v();
+    auto link = [&](int a, int b) {
+      const auto ka = static_cast<size_t>(a), kb = static_cast<size_t>(b);
+      if (!p.crack() || !p.crack()->crosses(p.control_parameter(ka), p.control_parameter(kb)))
+        join(offset[i] + ka, offset[i] + kb);
+    };
+    for (int j = 0; j < nv; ++j)
+      for (int u = 0; u < nu; ++u) {
+        if (u + 1 < nu) link(u + nu * j, u + 1 + nu * j);
+        if (j + 1 < nv) link(u + nu * j, u + nu * (j + 1));
+      }
+  }
+  for (size_t i = 0; i < scene_.interfaces.size(); ++i) {
+    const InterfaceSpec& spec = scene_.interfaces[i];
+    if (!spec.coupled) continue;
+    const coupling::Interface& c = seams_[i].cut ? *seams_[i].cut : spec.coupling;
+    const size_t lo = offset[static_cast<size_t>(c.leader_patch)], fo = offset[static_cast<size_t>(c.follower_patch)];
+    for (size_t k = 0; k < c.follower_row1.size(); ++k)
+      for (size_t j = 0; j < c.leader_row1.size(); ++j)
+        if (c.M0(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(j)) != 0.0)
+          join(fo + static_cast<size_t>(c.follower_row1[k]), lo + static_cast<size_t>(c.leader_row1[j]));
+  }
+  size_t roots = 0;
+  for (size_t k = 0; k < parent.size(); ++k) roots += find(k) == k ? 1 : 0;
+  return roots;
+}
+
 size_t Simulation::released_seam_points(size_t i) const {
   return static_cast<size_t>(std::count(seams_[i].released.begin(), seams_[i].released.end(), 1));
 }

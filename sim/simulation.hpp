@@ -77,8 +77,14 @@ class Simulation {
   // The render mesh of every shell at the current state (the scene's output resolution).
   std::vector<render_mesh::PolyMesh> render_meshes() const;
   const CrackStats& crack_stats() const { return crack_stats_; }
+  // Pieces of material: shell control points joined through their patch's control grid where no crack
+  // separates them, and across coupled seams through the coupling operators. A garment torn in two is
+  // 2, however many patches each half has; separate, uncoupled shells count once each.
+  size_t body_fragments() const;
   // Follower control points of scene interface i that a crack across the seam has released.
   size_t released_seam_points(size_t i) const;
+  // Seam coordinates (leader edge parameter in [0, 1]) where cracks meet the seam of interface i.
+  const std::vector<double>& seam_cracks(size_t i) const { return seams_[i].cracks; }
   // Crack graph of shell i, or null when the shell cannot crack.
   const crack2d::CrackGraph* crack_graph(size_t shell) const {
     return cracks_[shell] ? &cracks_[shell]->graph() : nullptr;

@@ -1,5 +1,5 @@
-// shellfrac command-line tool: run and validate scene files.
-// Exit codes: 0 success, 2 bad input, 3 numerical failure, 1 anything else.
+// shellfrac command-line tool: run, validate, verify coupling, and benchmark scene files.
+// Exit codes: 0 success, 2 bad input, 3 numerical failure, 4 a verify check failed, 1 anything else.
 #include <CLI/CLI.hpp>
 
 #include <exception>
