@@ -80,7 +80,9 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options, std::ost
   SeamRecorder seams(scene);  // metrics.interfaces
   auto write_frame = [&](int f) {
     auto scope = output_timer.time("output");
-    seams.record(f, sim.time(), sim.patches());
+    SeamCrackPositions cracks;
+    for (size_t i = 0; i < scene.interfaces.size(); ++i) cracks.push_back(sim.seam_cracks(i));
+    seams.record(f, sim.time(), sim.patches(), cracks);
     const auto meshes = sim.render_meshes();
     fragments = 0;
     for (size_t i = 0; i < scene.shells.size(); ++i) fragments += render_mesh::count_components(meshes[i]);

@@ -119,7 +119,8 @@ EdgeParameters edge_range(const nurbs::NurbsSurface& s, coupling::Side side) {
 // corresponds to the follower's f (1 - f when reversed), the same affine map the coupling uses.
 void measure_edge(const nurbs::NurbsSurface& leader, const nurbs::NurbsSurface& follower,
                   const nurbs::NurbsSurface& leader_ref, const nurbs::NurbsSurface& follower_ref,
-                  const coupling::Interface& c, SeamMeasurement& m) {
+                  const coupling::Interface& c, const std::vector<double>& cracks, SeamMeasurement& m) {
+  const double margin = 2.0 / (along_v(c.leader_side) ? leader.knots_v() : leader.knots_u()).num_spans();
   const int n = edge_samples(leader, c.leader_side, follower, c.follower_side);
   const EdgeParameters rl = edge_range(leader, c.leader_side), rf = edge_range(follower, c.follower_side);
   std::vector<Vector2d> uv_l(static_cast<size_t>(n)), uv_f(static_cast<size_t>(n));
@@ -137,6 +138,8 @@ void measure_edge(const nurbs::NurbsSurface& leader, const nurbs::NurbsSurface& 
     agree += leader_ref.normal(uv_l[k].x(), uv_l[k].y()).dot(follower_ref.normal(uv_f[k].x(), uv_f[k].y()));
   const double sign = agree < 0 ? -1.0 : 1.0;
   for (size_t k = 0; k < uv_l.size(); ++k) {
+    const double f = static_cast<double>(k) / (n - 1);
+    if (std::any_of(cracks.begin(), cracks.end(), [&](double s) { return std::abs(s - f) < margin; })) continue;
     const nurbs::SurfacePoint a = leader.evaluate(uv_l[k].x(), uv_l[k].y());
     const nurbs::SurfacePoint b = follower.evaluate(uv_f[k].x(), uv_f[k].y());
     m.gap = std::max(m.gap, (a.x - b.x).norm());
@@ -168,7 +171,9 @@ std::vector<const InterfaceSpec*> scene_seams(const Scene& scene) {
   return out;
 }
 
-std::vector<SeamMeasurement> measure_seams(const Scene& scene, const std::vector<shell::ShellPatch>& patches) {
+std::vector<SeamMeasurement> measure_seams(const Scene& scene, const std::vector<shell::ShellPatch>& patches,
+                                           const SeamCrackPositions& cracks) {
+  static const std::vector<double> none;
   const std::vector<const InterfaceSpec*> seams = scene_seams(scene);
   std::vector<nurbs::NurbsSurface> current;
   current.reserve(patches.size());
@@ -180,7 +185,11 @@ std::vector<SeamMeasurement> measure_seams(const Scene& scene, const std::vector
     const auto l = static_cast<size_t>(c.leader_patch), f = static_cast<size_t>(c.follower_patch);
     SeamMeasurement m;
     m.json_path = spec->json_path;
-    measure_edge(current[l], current[f], patches[l].reference(), patches[f].reference(), c, m);
+    // Coupled interfaces are entries of scene.interfaces; "none" seams never carry crack positions.
+    const auto index = static_cast<size_t>(spec - scene.interfaces.data());
+    const bool listed = spec->coupled && index < cracks.size();
+    measure_edge(current[l], current[f], patches[l].reference(), patches[f].reference(), c,
+                 listed ? cracks[index] : none, m);
     for (const auto& [patch, side] : {std::pair{l, c.leader_side}, std::pair{f, c.follower_side}}) {
       auto it = stress.find(patch);
       if (it == stress.end()) it = stress.emplace(patch, patches[patch].mid_surface_stress()).first;
@@ -227,9 +236,10 @@ SeamThresholds seam_thresholds(const Scene& scene, const InterfaceSpec& spec) {
 
 SeamRecorder::SeamRecorder(const Scene& scene) : scene_(scene), series_(scene_seams(scene).size()) {}
 
-void SeamRecorder::record(int frame, double time, const std::vector<shell::ShellPatch>& patches) {
+void SeamRecorder::record(int frame, double time, const std::vector<shell::ShellPatch>& patches,
+                          const SeamCrackPositions& cracks) {
   if (!active()) return;
-  std::vector<SeamMeasurement> m = measure_seams(scene_, patches);
+  std::vector<SeamMeasurement> m = measure_seams(scene_, patches, cracks);
   for (size_t i = 0; i < m.size(); ++i) series_[i].push_back({frame, time, std::move(m[i])});
 }
 

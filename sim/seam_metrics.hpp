@@ -27,9 +27,15 @@ struct SeamMeasurement {
 // Every interface of the scene, coupled or declared "none", in the order of the scene file.
 std::vector<const InterfaceSpec*> scene_seams(const Scene& scene);
 
+// Where cracks meet each coupled seam: per entry of scene.interfaces, seam coordinates in [0, 1] of
+// the leader's edge parameter (Simulation::seam_cracks). Empty when nothing has cracked.
+using SeamCrackPositions = std::vector<std::vector<double>>;
+
 // Measures every interface of `scene_seams(scene)` on the current control points of `patches` (the
-// simulation's patches, one per scene shell).
-std::vector<SeamMeasurement> measure_seams(const Scene& scene, const std::vector<shell::ShellPatch>& patches);
+// simulation's patches, one per scene shell). The gap and angle skip the seam within two leader cells of
+// a crack that crosses it: there the seam is open by design (docs/coupling.md, "Cracks across a seam").
+std::vector<SeamMeasurement> measure_seams(const Scene& scene, const std::vector<shell::ShellPatch>& patches,
+                                           const SeamCrackPositions& cracks = {});
 
 // The limits `shellfrac verify coupling` checks; unset means not checked.
 struct SeamThresholds {
@@ -51,7 +57,8 @@ class SeamRecorder {
   explicit SeamRecorder(const Scene& scene);
   // False when the scene declares no interfaces (nothing is recorded or reported).
   bool active() const { return !series_.empty(); }
-  void record(int frame, double time, const std::vector<shell::ShellPatch>& patches);
+  void record(int frame, double time, const std::vector<shell::ShellPatch>& patches,
+              const SeamCrackPositions& cracks = {});
   // One object per interface: its edges, continuity, thresholds, the per-frame series, the maxima
   // with the frame where they happened, and whether every checked maximum is within its limit.
   nlohmann::json to_json() const;

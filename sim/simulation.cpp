@@ -334,6 +334,24 @@ void Simulation::stage_coupling(double dt) {
     }
     set_rows();
   }
+  // Where seams meet at a patch corner, a row-1 (C0) point of one seam can be a row-2 (C1) point of
+  // another, and the later seam would open the earlier one. Closure wins: every seam's row 1 is placed
+  // once more, in order, from its leader's final state.
+  if (scene_.interfaces.size() < 2) return;
+  for (size_t i = 0; i < scene_.interfaces.size(); ++i) {
+    const InterfaceSpec& spec = scene_.interfaces[i];
+    if (!spec.coupled) continue;
+    const coupling::Interface& c = seams_[i].cut ? *seams_[i].cut : spec.coupling;
+    const shell::ShellPatch& leader = patches_[static_cast<size_t>(c.leader_patch)];
+    shell::ShellPatch& follower = patches_[static_cast<size_t>(c.follower_patch)];
+    const std::vector<Eigen::Vector3d> target = c.follower_positions(leader.x);
+    const std::vector<Eigen::Vector3d> target_v = c.follower_positions(leader.v);
+    for (size_t k = 0; k < c.follower_row1.size(); ++k)
+      if (!seams_[i].released[k]) {
+        follower.x[static_cast<size_t>(c.follower_row1[k])] = target[k];
+        follower.v[static_cast<size_t>(c.follower_row1[k])] = target_v[k];
+      }
+  }
 }
 
 void Simulation::apply_pins(double t) {
