@@ -287,6 +287,10 @@ ForceFailure ShellPatch::compute_forces() {
             cell_failed[c] = 1;
             break;
           }
+          if (st.J > kRunawayAreaRatio) {  // no sheet survives this intact: the explicit step has diverged
+            cell_failed[c] = 3;
+            break;
+          }
           InPlaneTensor tau{st.t11, st.t12, st.t22};
           // Plane strain keeps the transverse normal stress tau^33 = lambda ln J on g_3 = a_3. It does no
           // work (dPsi/dg_3 is parallel to the unit normal, whose variations are normal to it), so it
@@ -320,9 +324,12 @@ ForceFailure ShellPatch::compute_forces() {
     failure.failed = true;
     failure.quadrature_point = c * points_per_cell_;
     failure.parameter = param_[failure.quadrature_point];
-    failure.reason = cell_failed[c] == 2
-                         ? "shear particle director crushed into the tangent plane in cell " + std::to_string(c)
-                         : "degenerate or collapsed shell element (area ratio <= 0) in cell " + std::to_string(c);
+    const std::string cell = " in cell " + std::to_string(c);
+    failure.reason = cell_failed[c] == 2 ? "shear particle director crushed into the tangent plane" + cell
+                     : cell_failed[c] == 3
+                         ? "shell element stretched to more than " + std::to_string(static_cast<int>(kRunawayAreaRatio)) +
+                               " times its area" + cell + " (a diverging step: lower time.cfl or dt)"
+                         : "degenerate or collapsed shell element (area ratio <= 0)" + cell;
     return failure;
   }
   // Deterministic gather: the cell contributions, then the MLS contributions, in a fixed order.

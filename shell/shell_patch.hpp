@@ -36,6 +36,10 @@ enum class StressModel {
   DirectorF2D,
 };
 
+// In-plane area ratio J above which a layer point is taken as numerical divergence, not deformation:
+// a sheet stretched 30 times in length would have torn long before (compute_forces reports it).
+inline constexpr double kRunawayAreaRatio = 1000.0;
+
 // Material constants a shell patch needs for its forces.
 struct ShellMaterial {
   double mu = 0, lambda = 0;  // Lamé parameters (thesis Eq. 2.4)

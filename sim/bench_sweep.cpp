@@ -3,14 +3,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <ostream>
 #include <random>
 #include <set>
 
 #include "nurbs/patch_builders.hpp"
-#include "render_mesh/cracked_tessellation.hpp"
 #include "shell/mls_basis.hpp"
+#include "sim/scene_error.hpp"
 #include "sim/bench_scenes.hpp"
 #include "sim/charts.hpp"
 #include "sim/progress.hpp"
@@ -273,11 +274,16 @@ std::vector<SweepRow> run_sweep(const SweepConfig& config, std::ostream& log) {
   size_t done = 0;
   for (const auto& b : benchmarks) {
     for (const auto& [series, d] : sweep_plan(b)) {
-      SweepRow row{b.name, series, d, b.length / d.cells, b.run(d), false};
-      rows.push_back(row);
-      progress.update(static_cast<double>(++done),
-                      b.name + " " + series + " cells " + std::to_string(d.cells) + ": error " +
-                          charts::number(row.m.error) + ", " + charts::number(row.m.wall_seconds) + " s");
+      const std::string label = b.name + " " + series + " cells " + std::to_string(d.cells);
+      try {
+        SweepRow row{b.name, series, d, b.length / d.cells, b.run(d), false};
+        rows.push_back(row);
+        progress.update(static_cast<double>(++done), label + ": error " + charts::number(row.m.error) + ", " +
+                                                         charts::number(row.m.wall_seconds) + " s");
+      } catch (const NumericalError& e) {  // a diverging setting has no error to chart: say so, go on
+        log << "\n" << label << " diverged, left out of the charts: " << e.what() << "\n";
+        progress.update(static_cast<double>(++done), label + ": diverged");
+      }
     }
   }
   progress.finish(std::to_string(rows.size()) + " runs");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <iomanip>
 #include <limits>
 #include <memory>
@@ -62,15 +63,27 @@ std::vector<int> vertex_components(const render_mesh::PolyMesh& m) {
   return label;
 }
 
-// Smallest distance between vertices of different components (infinity for a single component).
+// Smallest distance between the vertices of the two largest components (by vertex count; infinity for a
+// single component). Small chips broken off along the crack may touch either piece; the question is
+// whether the two halves came apart.
 double fragment_separation(const render_mesh::PolyMesh& m) {
   const std::vector<int> label = vertex_components(m);
-  double best = std::numeric_limits<double>::infinity();
-  for (size_t a = 0; a < label.size(); ++a) {
-    if (label[a] < 0) continue;
-    for (size_t b = a + 1; b < label.size(); ++b)
-      if (label[b] >= 0 && label[b] != label[a]) best = std::min(best, (m.positions[a] - m.positions[b]).squaredNorm());
+  std::vector<size_t> size(label.size(), 0);
+  for (int l : label)
+    if (l >= 0) ++size[static_cast<size_t>(l)];
+  std::vector<int> order(label.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::partial_sort(order.begin(), order.begin() + std::min<size_t>(2, order.size()), order.end(),
+                    [&](int a, int b) { return size[static_cast<size_t>(a)] > size[static_cast<size_t>(b)]; });
+  if (order.size() < 2 || size[static_cast<size_t>(order[1])] == 0) return std::numeric_limits<double>::infinity();
+  std::vector<size_t> first, second;
+  for (size_t v = 0; v < label.size(); ++v) {
+    if (label[v] == order[0]) first.push_back(v);
+    if (label[v] == order[1]) second.push_back(v);
   }
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t a : first)
+    for (size_t b : second) best = std::min(best, (m.positions[a] - m.positions[b]).squaredNorm());
   return std::sqrt(best);
 }
 
@@ -330,18 +343,29 @@ std::vector<StabilityResult> run_stability_map(const StabilityConfig& config, st
         case Outcome::glued: colour = 0xa1887f; break;
         case Outcome::crease: colour = 0xf48fb1; break;
       }
-      char value[64];
-      if (r.outcome == Outcome::completed)
-        std::snprintf(value, sizeof value, " (area %.3f)", r.area_ratio);
-      else if (r.outcome == Outcome::nan)
-        std::snprintf(value, sizeof value, " at step %ld", r.steps);
-      else
-        std::snprintf(value, sizeof value, " %.3g (limit %.3g)", r.measured, r.threshold);
+      char value[96];
+      switch (r.outcome) {
+        case Outcome::completed: std::snprintf(value, sizeof value, " (area %.3f)", r.area_ratio); break;
+        case Outcome::refused: std::snprintf(value, sizeof value, ": dt %gx bound", r.measured); break;
+        case Outcome::nan: std::snprintf(value, sizeof value, " at step %ld", r.steps); break;
+        case Outcome::energy_blowup: std::snprintf(value, sizeof value, ": KE %.3gx peak", r.measured); break;
+        case Outcome::penetration: std::snprintf(value, sizeof value, ": %.2f cells", r.measured); break;
+        case Outcome::area_loss:
+        case Outcome::area_gain: std::snprintf(value, sizeof value, ": area %.3f", r.measured); break;
+        case Outcome::glued:
+          if (r.tripped_by == "render-mesh fragments")
+            std::snprintf(value, sizeof value, ": %d piece(s), %g expected", r.fragments, r.threshold);
+          else
+            std::snprintf(value, sizeof value, ": gap %.2g cells", r.measured);
+          break;
+        case Outcome::crease: std::snprintf(value, sizeof value, ": %.3g deg", r.measured); break;
+      }
       cells[i][j] = {std::string(outcome_name(r.outcome)) + value, colour};
     }
     charts::coloured_table_chart(config.out_dir / "stability-map.png",
                                  std::string("stability map (") + (config.full ? "full" : "tiny") +
-                                     "): outcome of each variant and the measured quantity that decided it",
+                                     "). Limits: KE 10x peak, penetration 0.5 cell, area 5%, gap 0.5 cell, "
+                                     "crease 10 deg",
                                  rows, columns, cells);
   }
   return results;

@@ -31,7 +31,7 @@ struct StabilityThresholds {
   double initial_fraction = 0.1;      // the "initial peak" is taken over this fraction of the run
   double penetration_cells = 0.5;     // penetration beyond half a cell
   double area_tolerance = 0.05;       // area change beyond 5%
-  double separation_cells = 0.5;      // fragments closer than half a cell count as glued
+  double separation_cells = 0.5;      // the two largest fragments closer than half a cell: glued
   double crease_degrees = 10;         // normal jump across a coupling seam
 };
 

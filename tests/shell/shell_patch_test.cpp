@@ -232,3 +232,22 @@ TEST(ShellPatch, DirectorModelSeesTheDirectorsNormalStretch) {
 
 }  // namespace
 }  // namespace shellfrac::shell
+
+namespace shellfrac::shell {
+namespace {
+
+TEST(ShellPatch, RunawayStretchIsReportedNotComputed) {
+  // A diverging explicit step shows up as absurd stretch long before it overflows to NaN: scaling the
+  // sheet 40 times in both directions (area ratio 1600 > 1000) is reported with its cell.
+  ShellPatch p(nurbs::flat_patch(1.0, 1.0, 4, 4), material(1e5, 0.3, 0.001));
+  ASSERT_FALSE(p.compute_forces().failed);
+  for (auto& x : p.x) x *= 40.0;
+  const ForceFailure f = p.compute_forces();
+  ASSERT_TRUE(f.failed);
+  EXPECT_NE(f.reason.find("more than 1000 times its area in cell"), std::string::npos) << f.reason;
+  for (auto& x : p.x) x *= 30.0 / 40.0;  // area ratio 900: still a (huge) deformation, computed
+  EXPECT_FALSE(p.compute_forces().failed);
+}
+
+}  // namespace
+}  // namespace shellfrac::shell
