@@ -206,15 +206,17 @@ Vec3 ShellPatch::shear_particle_frame(size_t c, Vec3& a1, Vec3& a2) const {
   return pos;
 }
 
-double ShellPatch::director_stretch(size_t c) const {
+Mat3 ShellPatch::director_r(size_t c) const {
   Vec3 a1, a2;
   shear_particle_frame(c, a1, a2);
   Mat3 d;
   d << a1, a2, shear.director[c];
   Mat3 Q, R;
   qr_oriented(d * shear.reference_inverse[c], Q, R);
-  return R(2, 2);
+  return R;
 }
+
+double ShellPatch::director_stretch(size_t c) const { return director_r(c)(2, 2); }
 
 void ShellPatch::update_shear_particles(double dt) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, num_cells_, 64), [&](const tbb::blocked_range<size_t>& r) {
@@ -449,15 +451,7 @@ double ShellPatch::elastic_energy() const {
   double e = 0;
   for (double v : per_point) e += v;
   // Type III shear/compression energy at the current directors.
-  for (size_t c = 0; c < num_cells_; ++c) {
-    Vec3 a1, a2;
-    shear_particle_frame(c, a1, a2);
-    Mat3 d;
-    d << a1, a2, shear.director[c];
-    Mat3 Q, R;
-    qr_oriented(d * shear.reference_inverse[c], Q, R);
-    e += shear.volume[c] * shear_energy_density(R, material_.shear);
-  }
+  for (size_t c = 0; c < num_cells_; ++c) e += shear.volume[c] * shear_energy_density(director_r(c), material_.shear);
   return e;
 }
 

@@ -246,6 +246,8 @@ class ShellPatch {
                                size_t ql, bool monotone, double* tau33 = nullptr);
   // Position of shear particle c (thesis Eq. 4.10) and the surface tangents a_1, a_2 there.
   Vec3 shear_particle_frame(size_t c, Vec3& a1, Vec3& a2) const;
+  // R of the QR decomposition of cell c's Type III F = [a_1 a_2 d_3] D^-1.
+  Mat3 director_r(size_t c) const;
 
   nurbs::NurbsSurface reference_;
   ShellMaterial material_;
