@@ -70,6 +70,19 @@ void Simulation::init_seams() {
     for (int k : c.follower_row1) st.follower_along.push_back(seam_of(follow, fp.control_parameter(static_cast<size_t>(k))).along);
     st.released.assign(c.follower_row1.size() * (c.continuity == coupling::Continuity::C1 ? 2 : 1), 0);
   }
+  // Seams whose row 1 shares a control point with another seam's coupled rows (patch corners): their
+  // row 1 is placed once more after all seams (Simulation::stage_coupling).
+  for (size_t i = 0; i < scene_.interfaces.size(); ++i)
+    for (size_t j = 0; j < scene_.interfaces.size() && !seams_[i].shares_points; ++j) {
+      const coupling::Interface& a = scene_.interfaces[i].coupling;
+      const coupling::Interface& b = scene_.interfaces[j].coupling;
+      if (i == j || a.follower_patch != b.follower_patch) continue;
+      for (int k : a.follower_row1) {
+        const bool in_b = std::find(b.follower_row1.begin(), b.follower_row1.end(), k) != b.follower_row1.end() ||
+                          std::find(b.follower_row2.begin(), b.follower_row2.end(), k) != b.follower_row2.end();
+        seams_[i].shares_points = seams_[i].shares_points || in_b;
+      }
+    }
   update_seam_cracks();  // prescribed cuts may already reach a seam
   count_crack_state();
 }

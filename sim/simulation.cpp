@@ -337,10 +337,9 @@ void Simulation::stage_coupling(double dt) {
   // Where seams meet at a patch corner, a row-1 (C0) point of one seam can be a row-2 (C1) point of
   // another, and the later seam would open the earlier one. Closure wins: every seam's row 1 is placed
   // once more, in order, from its leader's final state.
-  if (scene_.interfaces.size() < 2) return;
   for (size_t i = 0; i < scene_.interfaces.size(); ++i) {
     const InterfaceSpec& spec = scene_.interfaces[i];
-    if (!spec.coupled) continue;
+    if (!spec.coupled || !seams_[i].shares_points) continue;
     const coupling::Interface& c = seams_[i].cut ? *seams_[i].cut : spec.coupling;
     const shell::ShellPatch& leader = patches_[static_cast<size_t>(c.leader_patch)];
     shell::ShellPatch& follower = patches_[static_cast<size_t>(c.follower_patch)];

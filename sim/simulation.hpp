@@ -131,6 +131,7 @@ class Simulation {
     std::vector<double> cracks;          // seam coordinates where a crack of either patch meets the seam
     std::vector<unsigned char> released; // per follower row entry: the crack separated it from its leaders
     std::optional<coupling::Interface> cut;  // the operators with the crack's connections dropped
+    bool shares_points = false;  // a row-1 point is also a coupled row point of another seam (corner)
   };
   std::vector<SeamState> seams_;
   mpm::PhantomLayout phantoms_;
