@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
-#include <unordered_map>
 
 #include "render_mesh/cracked_tessellation.hpp"
 #include "render_mesh/surface_tessellation.hpp"
@@ -300,7 +299,13 @@ void Simulation::stage_coupling(double dt) {
     // goes to the grid once more, mass-weighted with the weights of this step (positions x^n), and every
     // follower control point near the seam takes the interpolated correction for its second advection.
     const std::vector<Eigen::Vector3d>& start = start_positions_[static_cast<size_t>(c.follower_patch)];
-    std::unordered_map<uint32_t, Eigen::Vector3d> node_correction;
+    // Per-node sums in a dense scratch array that is zero between uses; only touched nodes are reset
+    // (a hash map here cost a third of the coupling stage).
+    if (node_scratch_.size() < grid_.num_nodes()) {
+      node_scratch_.resize(grid_.num_nodes(), Eigen::Vector3d::Zero());
+      node_touched_.resize(grid_.num_nodes(), 0);
+    }
+    std::vector<uint32_t> touched;
     const double inv_dx = 1.0 / grid_.dx();
     for (size_t k = 0; k < rows.size(); ++k) {
       if (released[k]) continue;
@@ -311,13 +316,17 @@ void Simulation::stage_coupling(double dt) {
       const mpm::StencilWeights sw = mpm::stencil_weights(xn, inv_dx);
       const auto nodes = grid_.stencil_nodes(xn);
       for (int s = 0; s < 27; ++s) {
-        auto [it, fresh] = node_correction.try_emplace(nodes[static_cast<size_t>(s)], Eigen::Vector3d::Zero());
-        it->second += (m * sw.weight(s % 3, (s / 3) % 3, s / 9)) * dv;
+        const uint32_t node = nodes[static_cast<size_t>(s)];
+        if (!node_touched_[node]) {
+          node_touched_[node] = 1;
+          touched.push_back(node);
+        }
+        node_scratch_[node] += (m * sw.weight(s % 3, (s / 3) % 3, s / 9)) * dv;
       }
     }
-    for (auto& [node, sum] : node_correction) {  // Eq. 4.31
+    for (uint32_t node : touched) {  // Eq. 4.31
       const double mi = grid_.node_mass(node);
-      sum = mi > 0 ? Eigen::Vector3d(sum / mi) : Eigen::Vector3d(Eigen::Vector3d::Zero());
+      node_scratch_[node] = mi > 0 ? Eigen::Vector3d(node_scratch_[node] / mi) : Eigen::Vector3d(Eigen::Vector3d::Zero());
     }
     for (int k : spec.follower_neighbours) {  // Eq. 4.32 and the second advection
       const auto p = static_cast<size_t>(k);
@@ -325,12 +334,13 @@ void Simulation::stage_coupling(double dt) {
       const mpm::StencilWeights sw = mpm::stencil_weights(xn, inv_dx);
       const auto nodes = grid_.stencil_nodes(xn);
       Eigen::Vector3d dv = Eigen::Vector3d::Zero();
-      for (int s = 0; s < 27; ++s) {
-        const auto it = node_correction.find(nodes[static_cast<size_t>(s)]);
-        if (it != node_correction.end()) dv += sw.weight(s % 3, (s / 3) % 3, s / 9) * it->second;
-      }
+      for (int s = 0; s < 27; ++s) dv += sw.weight(s % 3, (s / 3) % 3, s / 9) * node_scratch_[nodes[static_cast<size_t>(s)]];
       follower.v[p] += dv;
       follower.x[p] += dt * dv;
+    }
+    for (uint32_t node : touched) {
+      node_scratch_[node].setZero();
+      node_touched_[node] = 0;
     }
     set_rows();
   }

@@ -134,6 +134,8 @@ class Simulation {
     bool shares_points = false;  // a row-1 point is also a coupled row point of another seam (corner)
   };
   std::vector<SeamState> seams_;
+  std::vector<Eigen::Vector3d> node_scratch_;  // momentum correction per grid node, zero between uses
+  std::vector<unsigned char> node_touched_;
   mpm::PhantomLayout phantoms_;
   // Visibility between particle pairs depends only on their parameter coordinates and the crack, so it
   // is cached across steps (per thread) and dropped when any crack grows.
