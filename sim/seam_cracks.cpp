@@ -51,9 +51,14 @@ std::vector<SeamHit> seam_hits(const crack2d::CrackGraph& g, const SeamSide& s) 
   return hits;
 }
 
+// Cells of the patch across the side and along it.
 int cross_cells(const nurbs::NurbsSurface& s, coupling::Side side) {
   const bool u_side = side == coupling::Side::U0 || side == coupling::Side::U1;
-  return u_side ? s.knots_u().num_spans() : s.knots_v().num_spans();
+  return std::max(1, u_side ? s.knots_u().num_spans() : s.knots_v().num_spans());
+}
+int along_cells(const nurbs::NurbsSurface& s, coupling::Side side) {
+  const bool u_side = side == coupling::Side::U0 || side == coupling::Side::U1;
+  return std::max(1, u_side ? s.knots_v().num_spans() : s.knots_u().num_spans());
 }
 
 }  // namespace
@@ -100,10 +105,8 @@ void Simulation::update_seam_cracks() {
     for (int from = 0; from < 2; ++from) {
       const int to = 1 - from;
       if (!cracks_[patch[from]] || !cracks_[patch[to]]) continue;
-      const double cell_along = 1.0 / std::max(1, (side[to].side == coupling::Side::U0 || side[to].side == coupling::Side::U1
-                                                       ? side[to].surface->knots_v().num_spans()
-                                                       : side[to].surface->knots_u().num_spans()));
-      const double cell_across = 1.0 / std::max(1, cross_cells(*side[to].surface, side[to].side));
+      const double cell_along = 1.0 / along_cells(*side[to].surface, side[to].side);
+      const double cell_across = 1.0 / cross_cells(*side[to].surface, side[to].side);
       for (const SeamHit& h : seam_hits(cracks_[patch[from]]->graph(), side[from])) {
         if (h.inward.y() <= 1e-3 * h.inward.norm()) continue;  // running along the seam: does not cross it
         bool continued = false;
