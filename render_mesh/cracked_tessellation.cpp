@@ -616,6 +616,21 @@ PolyMesh assemble_render_mesh(const ParameterMesh& mesh, const ParameterDomain& 
   return out;
 }
 
+double surface_area(const PolyMesh& m) {
+  double area = 0;
+  for (int f = 0; f < m.num_faces(); ++f) {
+    const auto b = static_cast<size_t>(m.face_offsets[static_cast<size_t>(f)]);
+    const auto e = static_cast<size_t>(m.face_offsets[static_cast<size_t>(f) + 1]);
+    const Eigen::Vector3d& o = m.positions[static_cast<size_t>(m.face_vertices[b])];
+    Eigen::Vector3d twice = Eigen::Vector3d::Zero();
+    for (size_t k = b + 1; k + 1 < e; ++k)
+      twice += (m.positions[static_cast<size_t>(m.face_vertices[k])] - o)
+                   .cross(m.positions[static_cast<size_t>(m.face_vertices[k + 1])] - o);
+    area += 0.5 * twice.norm();
+  }
+  return area;
+}
+
 int count_components(const PolyMesh& mesh) {
   return count_face_components(mesh.num_vertices(), mesh.face_offsets, mesh.face_vertices);
 }

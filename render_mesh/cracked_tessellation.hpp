@@ -116,6 +116,9 @@ PolyMesh cracked_tessellation(const ParameterDomain& domain, const std::vector<C
 // share a vertex index. Vertices used by no face are not counted.
 int count_components(const PolyMesh& mesh);
 int count_components(const ParameterMesh& mesh);
+// World-space area of the faces (each face fan-triangulated from its first vertex): the sheet area
+// kept after tearing (thesis Fig. 4.10).
+double surface_area(const PolyMesh& mesh);
 
 // Signed area of face f in the parameter plane (shoelace); positive for counter-clockwise faces.
 double signed_area(const ParameterMesh& mesh, int face);

@@ -115,19 +115,4 @@ Json drape(const Discretisation& d, bool two_patches) {
   return s;
 }
 
-double mesh_area(const render_mesh::PolyMesh& m) {
-  double area = 0;
-  for (int f = 0; f < m.num_faces(); ++f) {
-    const auto b = static_cast<size_t>(m.face_offsets[static_cast<size_t>(f)]);
-    const auto e = static_cast<size_t>(m.face_offsets[static_cast<size_t>(f) + 1]);
-    const Eigen::Vector3d& o = m.positions[static_cast<size_t>(m.face_vertices[b])];
-    Eigen::Vector3d twice = Eigen::Vector3d::Zero();
-    for (size_t k = b + 1; k + 1 < e; ++k)
-      twice += (m.positions[static_cast<size_t>(m.face_vertices[k])] - o)
-                   .cross(m.positions[static_cast<size_t>(m.face_vertices[k + 1])] - o);
-    area += 0.5 * twice.norm();
-  }
-  return area;
-}
-
 }  // namespace shellfrac::sim::bench_scenes

@@ -26,7 +26,4 @@ Json mode_one_tear(const Discretisation& d);
 // at x = 0 (N/2 x N cells left, N x 2N right, nested knots).
 Json drape(const Discretisation& d, bool two_patches);
 
-// World-space area of a polygon mesh (fan triangulation of each face).
-double mesh_area(const render_mesh::PolyMesh& mesh);
-
 }  // namespace shellfrac::sim::bench_scenes

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "nurbs/patch_builders.hpp"
+#include "render_mesh/cracked_tessellation.hpp"
 #include "shell/mls_basis.hpp"
 #include "sim/scene_error.hpp"
 #include "sim/bench_scenes.hpp"
@@ -126,7 +127,7 @@ AccuracyBenchmark tear_benchmark(bool full) {
   const double end = full ? 1.2 : 0.03;
   b.run = [end](const Discretisation& d) {
     Measurement m = simulate(bench_scenes::mode_one_tear(d), end, [](const Simulation& sim) {
-      return bench_scenes::mesh_area(sim.render_meshes()[0]);
+      return render_mesh::surface_area(sim.render_meshes()[0]);
     });
     m.reference = 1.0;
     set_relative_error(m);

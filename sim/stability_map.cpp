@@ -168,7 +168,7 @@ StabilityResult run_stability_case(const StabilityCase& c, double baseline_peak_
   double area = 0;
   r.fragments = 0;
   for (const auto& m : meshes) {
-    area += bench_scenes::mesh_area(m);
+    area += render_mesh::surface_area(m);
     r.fragments += render_mesh::count_components(m);
   }
   r.area_ratio = area / c.reference_area;

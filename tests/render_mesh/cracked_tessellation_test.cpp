@@ -106,6 +106,15 @@ void expect_valid(const Split& m, double area) {
   }
 }
 
+TEST(CrackedTessellation, SurfaceAreaOfQuadsAndTriangles) {
+  // A unit square tilted out of plane (area 1) and a right triangle with legs 2 and 3 (area 3).
+  PolyMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 0.6, 0.8}, {0, 0.6, 0.8}, {5, 0, 0}, {7, 0, 0}, {5, 3, 0}};
+  m.add_face({0, 1, 2, 3});
+  m.add_face({4, 5, 6});
+  EXPECT_NEAR(surface_area(m), 4.0, 1e-14);
+}
+
 TEST(CrackedTessellation, WithoutCrackEqualsTheUncrackedGrid) {
   const ParameterDomain domain{0.5, 2.5, -1.0, 2.0};
   const Split m = cut({}, 5, 3, 1e-5, domain);
