@@ -155,6 +155,22 @@ Interface make_interface(const nurbs::NurbsSurface& a, int patch_a, Side sa, con
     }
     itf.M1 = c1_operator(pinv, itf.D, r.U_leader);
   }
+  if (options.closure == Closure::Exact) {
+    itf.exact = true;
+    itf.shared = shared_space(el, ef, reversed, options.continuity == Continuity::C1);
+    // The rest state must already be closed: the leader's reference rows lie in the shared space.
+    auto off_space = [](const Eigen::MatrixXd& E, const PointRows& rows) {
+      return (E * pseudo_inverse(E) * rows - rows).rowwise().norm().maxCoeff();
+    };
+    double off = off_space(itf.shared.E1, lead1);
+    if (options.continuity == Continuity::C1) off = std::max(off, off_space(itf.shared.E2, rows_of(leader, el.row2)));
+    if (off > options.tolerance) {
+      throw CouplingError("exact closure of " + pair + ": the leader's reference rows are " + format_number(off) +
+                          " away from the " + std::to_string(itf.shared.E1.cols()) +
+                          " control points both edges share (tolerance " + format_number(options.tolerance) +
+                          "); use \"closure\": \"least_squares\" for this seam");
+    }
+  }
   return itf;
 }
 

@@ -4,6 +4,7 @@
 
 #include "coupling/coupling_operators.hpp"
 #include "coupling/edge.hpp"
+#include "coupling/shared_space.hpp"
 #include "nurbs/nurbs_surface.hpp"
 
 namespace shellfrac::coupling {
@@ -16,8 +17,15 @@ enum class CrossScale {
   ReferenceGeometry,  // ratio measured on the reference control net: the rest state is a fixed point
 };
 
+// How the follower closes onto the leader (see coupling/shared_space.hpp).
+enum class Closure {
+  LeastSquares,  // thesis Eq. 4.29 as written: exact for nested knots, a least-squares fit otherwise
+  Exact,         // the leader's coupled rows are kept in the spline space both edges share
+};
+
 struct InterfaceOptions {
   Continuity continuity = Continuity::C1;
+  Closure closure = Closure::LeastSquares;
   CrossScale cross_scale = CrossScale::KnotSpans;
   double tolerance = 1e-8;  // allowed edge gap, length mismatch and refined-point mismatch (length units)
   int gap_samples = 200;
@@ -43,6 +51,9 @@ struct Interface {
   Eigen::MatrixXd M1;  // n_eta x n_lambda: c_eta2 = M0 c_lambda1 + M1 (c_lambda1 - c_lambda2) (Eq. 4.34)
   Eigen::VectorXd D;   // the diagonal of mesh-dependent constants, one per refined control point
   std::vector<double> common_knots;  // k' in the follower's edge parameter (for inspection)
+  // Exact closure only: the leader's rows live in shared.E1 (row 1) and shared.E2 (row 2, C1).
+  bool exact = false;
+  SharedSpace shared;
 
   // New follower rows from the leader's control points (whole-patch arrays, flat indices):
   // row 1 (n_eta x 3), and for C1 row 2 below it (2 n_eta x 3).
@@ -62,7 +73,8 @@ struct Interface {
 // the edge parameter of b runs against that of a. Checks, each with a CouplingError
 // (std::invalid_argument) naming the measured value: clamped knots, equal degrees along the edge,
 // equal edge lengths, edge_gap <= tolerance, and identical curves after virtual refinement (the
-// parameterisations must agree up to an affine map). The side with fewer edge control points leads;
+// parameterisations must agree up to an affine map); for exact closure also that the leader's reference
+// rows lie in the shared space. The side with fewer edge control points leads;
 // on a tie, a leads.
 Interface make_interface(const nurbs::NurbsSurface& a, int patch_a, Side sa, const nurbs::NurbsSurface& b,
                          int patch_b, Side sb, bool reversed, const InterfaceOptions& options = {});

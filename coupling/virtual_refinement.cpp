@@ -99,6 +99,18 @@ std::vector<double> knot_union(const std::vector<double>& a, const std::vector<d
   return out;
 }
 
+std::vector<double> knot_intersection(const std::vector<double>& a, const std::vector<double>& b, double tolerance) {
+  const std::vector<Run> ra = runs_of(a, tolerance), rb = runs_of(b, tolerance);
+  std::vector<double> out;
+  std::size_t j = 0;
+  for (const Run& r : ra) {
+    while (j < rb.size() && rb[j].value < r.value - tolerance) ++j;
+    if (j < rb.size() && std::abs(rb[j].value - r.value) <= tolerance)
+      out.insert(out.end(), static_cast<std::size_t>(std::min(r.count, rb[j].count)), r.value);
+  }
+  return out;
+}
+
 std::vector<double> knot_difference(const std::vector<double>& refined, const std::vector<double>& original,
                                     double tolerance) {
   const std::vector<Run> rr = runs_of(refined, tolerance), ro = runs_of(original, tolerance);

@@ -25,6 +25,11 @@ std::vector<double> map_knots(const nurbs::KnotVector& kv, const ParameterMap& m
 // a's value, so that mapping roundoff (e.g. 1 - 0.7 != 0.3) never creates a sliver span.
 std::vector<double> knot_union(const std::vector<double>& a, const std::vector<double>& b, double tolerance);
 
+// Intersection with multiplicities of two sorted knot lists: each value present in both appears
+// min(m_a, m_b) times (a's value). The spline space on these knots is the intersection of the two
+// spaces: the curves both edges can represent exactly (used by exact seam closure).
+std::vector<double> knot_intersection(const std::vector<double>& a, const std::vector<double>& b, double tolerance);
+
 // The multiset difference refined \ original (with the same tolerance): the knots to insert into
 // `original` to reach `refined`.
 std::vector<double> knot_difference(const std::vector<double>& refined, const std::vector<double>& original,

@@ -1,5 +1,6 @@
 #include "sim/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -320,6 +321,32 @@ std::string line_col(const std::string& text, size_t offset) {
   return "line " + std::to_string(line) + ", column " + std::to_string(col);
 }
 
+bool contains(const std::vector<int>& list, int k) { return std::find(list.begin(), list.end(), k) != list.end(); }
+
+// Exact closure moves the leader's coupled rows, which a pin or another seam's follower rows also set.
+void check_exact_closures(const Scene& scene, const std::string& file) {
+  for (const InterfaceSpec& spec : scene.interfaces) {
+    const coupling::Interface& c = spec.coupling;
+    if (!c.exact) continue;
+    std::vector<int> rows = c.leader_row1;
+    rows.insert(rows.end(), c.leader_row2.begin(), c.leader_row2.end());
+    for (const Pin& pin : scene.pins)
+      for (int k : pin.control_points)
+        if (pin.shell == static_cast<size_t>(c.leader_patch) && contains(rows, k))
+          throw SceneError(file, spec.json_path + "/closure",
+                           "exact closure moves the leader's seam rows, but the pin at " + pin.json_path +
+                               " holds one of them (control point " + std::to_string(k) +
+                               "); pin the other shell's side or use \"least_squares\"");
+    for (const InterfaceSpec& other : scene.interfaces)
+      if (&other != &spec && other.coupling.follower_patch == c.leader_patch)
+        for (int k : rows)
+          if (contains(other.coupling.follower_row1, k) || contains(other.coupling.follower_row2, k))
+            throw SceneError(file, spec.json_path + "/closure",
+                             "exact closure moves the leader's seam rows, but control point " + std::to_string(k) +
+                                 " is also set by the seam at " + other.json_path + "; use \"least_squares\"");
+  }
+}
+
 }  // namespace
 
 Scene parse_scene(const std::string& json_text, const std::string& source) {
@@ -358,6 +385,7 @@ Scene parse_scene(const std::string& json_text, const std::string& source) {
   scene.pins = read_pins(root, scene.shells);
   for (InterfaceSpec& spec : read_interfaces(root, scene.shells))
     (spec.coupled ? scene.interfaces : scene.uncoupled_seams).push_back(std::move(spec));
+  check_exact_closures(scene, source);
   root.finish();
   return scene;
 }

@@ -133,6 +133,9 @@ struct InterfaceSpec {
   // Follower control points near the seam that receive the corrected velocity from the grid (Eq. 4.32):
   // the rows within the quadratic stencil's reach (three rows) of the coupled ones.
   std::vector<int> follower_neighbours;
+  // Exact closure: the leader's rows are projected each step, and these leader points near the seam take
+  // the projection's correction from the grid in the same way.
+  std::vector<int> leader_neighbours;
 };
 
 // Crack machinery shared by all fracturing shells (thesis sec. 4.4.2, 4.6, 4.7).

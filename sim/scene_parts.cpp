@@ -238,6 +238,29 @@ InterfaceVerify read_interface_verify(ObjectReader& r) {
 
 }  // namespace
 
+namespace {
+
+// Flat indices of the control points within six rows of `side` (the coupled rows and their neighbours).
+std::vector<int> rows_near_side(const nurbs::NurbsSurface& s, coupling::Side side) {
+  constexpr int kRows = 6;
+  const int nu = s.num_u(), nv = s.num_v();
+  std::vector<int> out;
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      int depth = 0;
+      switch (side) {
+        case coupling::Side::U0: depth = i; break;
+        case coupling::Side::U1: depth = nu - 1 - i; break;
+        case coupling::Side::V0: depth = j; break;
+        case coupling::Side::V1: depth = nv - 1 - j; break;
+      }
+      if (depth < kRows) out.push_back(i + nu * j);
+    }
+  return out;
+}
+
+}  // namespace
+
 std::vector<InterfaceSpec> read_interfaces(ObjectReader& root, const std::vector<Shell>& shells) {
   std::vector<InterfaceSpec> out;
   if (!root.has("interfaces")) return out;
@@ -266,6 +289,9 @@ std::vector<InterfaceSpec> read_interfaces(ObjectReader& root, const std::vector
     options.tolerance = r.number_or("tolerance", 1e-8, Range::positive());
     const bool reversed = r.boolean_or("reversed", false);
     const bool correction = r.boolean_or("momentum_correction", true);
+    const std::string closure = r.choice_or("closure", "least_squares", {"least_squares", "exact"});
+    if (closure == "exact" && continuity == "none") r.fail("closure", "a seam with \"continuity\": \"none\" is never closed");
+    options.closure = closure == "exact" ? coupling::Closure::Exact : coupling::Closure::LeastSquares;
     InterfaceSpec spec;
     if (auto v = r.optional_object("verify")) spec.verify = read_interface_verify(*v);
     spec.coupled = continuity != "none";
@@ -278,21 +304,11 @@ std::vector<InterfaceSpec> read_interfaces(ObjectReader& root, const std::vector
     }
     spec.json_path = path;
     spec.momentum_correction = correction;
-    // Rows 0..5 counted from the follower's coupled side: the coupled rows plus those whose quadratic
-    // stencils share grid nodes with them.
-    const auto& fs = shells[static_cast<size_t>(spec.coupling.follower_patch)].surface;
-    const int nu = fs.num_u(), nv = fs.num_v();
-    for (int j = 0; j < nv; ++j)
-      for (int i = 0; i < nu; ++i) {
-        int depth = 0;
-        switch (spec.coupling.follower_side) {
-          case coupling::Side::U0: depth = i; break;
-          case coupling::Side::U1: depth = nu - 1 - i; break;
-          case coupling::Side::V0: depth = j; break;
-          case coupling::Side::V1: depth = nv - 1 - j; break;
-        }
-        if (depth < 6) spec.follower_neighbours.push_back(i + nu * j);
-      }
+    // Rows 0..5 counted from the coupled side: the coupled rows plus those whose quadratic stencils
+    // share grid nodes with them. The leader's only move for exact closure.
+    const coupling::Interface& c = spec.coupling;
+    spec.follower_neighbours = rows_near_side(shells[static_cast<size_t>(c.follower_patch)].surface, c.follower_side);
+    if (c.exact) spec.leader_neighbours = rows_near_side(shells[static_cast<size_t>(c.leader_patch)].surface, c.leader_side);
     out.push_back(std::move(spec));
   }
   return out;

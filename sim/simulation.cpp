@@ -250,10 +250,14 @@ void Simulation::stage_grid_update(double dt) {
 void Simulation::stage_g2p(double dt) {
   auto scope = timer_.time("g2p");
   grid_.transfer_to_particles(sets_);
-  // Follower patches keep x^n: the momentum correction transfers with this step's weights (Eq. 4.31).
-  for (const InterfaceSpec& spec : scene_.interfaces)
+  // Coupled patches keep x^n: the momentum correction transfers with this step's weights (Eq. 4.31).
+  for (const InterfaceSpec& spec : scene_.interfaces) {
     start_positions_[static_cast<size_t>(spec.coupling.follower_patch)] =
         patches_[static_cast<size_t>(spec.coupling.follower_patch)].x;
+    if (spec.coupling.exact)
+      start_positions_[static_cast<size_t>(spec.coupling.leader_patch)] =
+          patches_[static_cast<size_t>(spec.coupling.leader_patch)].x;
+  }
   for (auto& p : patches_) {
     tbb::parallel_for(size_t{0}, p.x.size(), [&](size_t k) { p.x[k] += dt * p.v[k]; });  // thesis Eq. 4.9
     mpm::project_particles(p.x, p.v, colliders_, time_ + dt);
@@ -266,101 +270,6 @@ void Simulation::stage_g2p(double dt) {
   stage_coupling(dt);
   for (auto& p : patches_) p.update_shear_particles(dt);
   check_finite();
-}
-
-void Simulation::stage_coupling(double dt) {
-  if (scene_.interfaces.empty()) return;
-  auto scope = timer_.time("coupling");
-  for (size_t i = 0; i < scene_.interfaces.size(); ++i) {
-    const InterfaceSpec& spec = scene_.interfaces[i];
-    if (!spec.coupled) continue;
-    const coupling::Interface& c = seams_[i].cut ? *seams_[i].cut : spec.coupling;
-    shell::ShellPatch& leader = patches_[static_cast<size_t>(c.leader_patch)];
-    shell::ShellPatch& follower = patches_[static_cast<size_t>(c.follower_patch)];
-    // Targets of the coupled follower rows from the advected leader (thesis Eq. 4.29, 4.34), for
-    // positions and (the operators are linear) velocities; rows a crack released move on their own.
-    const std::vector<Eigen::Vector3d> target = c.follower_positions(leader.x);
-    const std::vector<Eigen::Vector3d> target_v = c.follower_positions(leader.v);
-    const std::vector<unsigned char>& released = seams_[i].released;
-    std::vector<int> rows = c.follower_row1;
-    if (c.continuity == coupling::Continuity::C1) rows.insert(rows.end(), c.follower_row2.begin(), c.follower_row2.end());
-    auto set_rows = [&] {  // the coupled rows sit exactly on their targets, moving with the leader
-      for (size_t k = 0; k < rows.size(); ++k)
-        if (!released[k]) {
-          follower.x[static_cast<size_t>(rows[k])] = target[k];
-          follower.v[static_cast<size_t>(rows[k])] = target_v[k];
-        }
-    };
-    if (!spec.momentum_correction) {  // positions only: the velocity field is discontinuous at the seam
-      set_rows();
-      continue;
-    }
-    // Momentum correction (Eq. 4.30-4.32): the coupled rows' correction velocity dv = (target - xbar)/dt
-    // goes to the grid once more, mass-weighted with the weights of this step (positions x^n), and every
-    // follower control point near the seam takes the interpolated correction for its second advection.
-    const std::vector<Eigen::Vector3d>& start = start_positions_[static_cast<size_t>(c.follower_patch)];
-    // Per-node sums in a dense scratch array that is zero between uses; only touched nodes are reset
-    // (a hash map here cost a third of the coupling stage).
-    if (node_scratch_.size() < grid_.num_nodes()) {
-      node_scratch_.resize(grid_.num_nodes(), Eigen::Vector3d::Zero());
-      node_touched_.resize(grid_.num_nodes(), 0);
-    }
-    std::vector<uint32_t> touched;
-    const double inv_dx = 1.0 / grid_.dx();
-    for (size_t k = 0; k < rows.size(); ++k) {
-      if (released[k]) continue;
-      const auto p = static_cast<size_t>(rows[k]);
-      const Eigen::Vector3d& xn = start[p];
-      const Eigen::Vector3d dv = (target[k] - follower.x[p]) / dt;  // Eq. 4.30
-      const double m = transfer_mass_[static_cast<size_t>(c.follower_patch)][p];
-      const mpm::StencilWeights sw = mpm::stencil_weights(xn, inv_dx);
-      const auto nodes = grid_.stencil_nodes(xn);
-      for (int s = 0; s < 27; ++s) {
-        const uint32_t node = nodes[static_cast<size_t>(s)];
-        if (!node_touched_[node]) {
-          node_touched_[node] = 1;
-          touched.push_back(node);
-        }
-        node_scratch_[node] += (m * sw.weight(s % 3, (s / 3) % 3, s / 9)) * dv;
-      }
-    }
-    for (uint32_t node : touched) {  // Eq. 4.31
-      const double mi = grid_.node_mass(node);
-      node_scratch_[node] = mi > 0 ? Eigen::Vector3d(node_scratch_[node] / mi) : Eigen::Vector3d(Eigen::Vector3d::Zero());
-    }
-    for (int k : spec.follower_neighbours) {  // Eq. 4.32 and the second advection
-      const auto p = static_cast<size_t>(k);
-      const Eigen::Vector3d& xn = start[p];
-      const mpm::StencilWeights sw = mpm::stencil_weights(xn, inv_dx);
-      const auto nodes = grid_.stencil_nodes(xn);
-      Eigen::Vector3d dv = Eigen::Vector3d::Zero();
-      for (int s = 0; s < 27; ++s) dv += sw.weight(s % 3, (s / 3) % 3, s / 9) * node_scratch_[nodes[static_cast<size_t>(s)]];
-      follower.v[p] += dv;
-      follower.x[p] += dt * dv;
-    }
-    for (uint32_t node : touched) {
-      node_scratch_[node].setZero();
-      node_touched_[node] = 0;
-    }
-    set_rows();
-  }
-  // Where seams meet at a patch corner, a row-1 (C0) point of one seam can be a row-2 (C1) point of
-  // another, and the later seam would open the earlier one. Closure wins: every seam's row 1 is placed
-  // once more, in order, from its leader's final state.
-  for (size_t i = 0; i < scene_.interfaces.size(); ++i) {
-    const InterfaceSpec& spec = scene_.interfaces[i];
-    if (!spec.coupled || !seams_[i].shares_points) continue;
-    const coupling::Interface& c = seams_[i].cut ? *seams_[i].cut : spec.coupling;
-    const shell::ShellPatch& leader = patches_[static_cast<size_t>(c.leader_patch)];
-    shell::ShellPatch& follower = patches_[static_cast<size_t>(c.follower_patch)];
-    const std::vector<Eigen::Vector3d> target = c.follower_positions(leader.x);
-    const std::vector<Eigen::Vector3d> target_v = c.follower_positions(leader.v);
-    for (size_t k = 0; k < c.follower_row1.size(); ++k)
-      if (!seams_[i].released[k]) {
-        follower.x[static_cast<size_t>(c.follower_row1[k])] = target[k];
-        follower.v[static_cast<size_t>(c.follower_row1[k])] = target_v[k];
-      }
-  }
 }
 
 void Simulation::apply_pins(double t) {

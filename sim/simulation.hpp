@@ -100,6 +100,9 @@ class Simulation {
   void stage_g2p(double dt);
   void stage_cracks();
   void stage_coupling(double dt);
+  void correct_near_seam(size_t patch, const std::vector<int>& rows, const std::vector<Eigen::Vector3d>& target,
+                         const std::vector<unsigned char>& released, const std::vector<int>& neighbours, double dt);
+  void close_onto_shared_space(size_t seam, double dt);
   void init_cracks();
   void count_crack_state();  // crack_stats_ counts of the current graphs and MLS points
   void init_seams();
@@ -122,8 +125,8 @@ class Simulation {
   StageTimer timer_;
   std::vector<std::unique_ptr<crack2d::ConsistentCrackExtractor>> cracks_;  // per shell, null if it cannot crack
   shell::MlsSettings mls_settings_;
-  std::vector<size_t> damaged_count_;
-  std::vector<std::vector<Eigen::Vector3d>> start_positions_;  // x^n of follower patches (coupling)  // per shell: fully damaged points at the last extraction
+  std::vector<size_t> damaged_count_;  // per shell: fully damaged points at the last extraction
+  std::vector<std::vector<Eigen::Vector3d>> start_positions_;  // x^n of coupled patches (momentum correction)
   // Per scene interface: where cracks meet the seam and which coupled follower rows they released.
   struct SeamState {
     std::vector<double> leader_along;    // seam coordinate of each leader edge control point
@@ -132,6 +135,8 @@ class Simulation {
     std::vector<unsigned char> released; // per follower row entry: the crack separated it from its leaders
     std::optional<coupling::Interface> cut;  // the operators with the crack's connections dropped
     bool shares_points = false;  // a row-1 point is also a coupled row point of another seam (corner)
+    // Exact closure: mass-weighted projectors of the leader's rows onto the shared space (row 1, row 2).
+    Eigen::MatrixXd leader_projector1, leader_projector2;
   };
   std::vector<SeamState> seams_;
   std::vector<Eigen::Vector3d> node_scratch_;  // momentum correction per grid node, zero between uses

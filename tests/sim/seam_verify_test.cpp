@@ -147,7 +147,9 @@ TEST(SeamMetrics, DefaultThresholdsAndVerifyParsing) {
         std::tuple{R"("verify": {"max_angle_degrees": 200})", "/interfaces/0/verify/max_angle_degrees", "[0, 180]"},
         std::tuple{R"("verify": {"max_stress_ratio": "2"})", "/interfaces/0/verify/max_stress_ratio", "expected a number"},
         std::tuple{R"("verify": {"max_gaps": 1})", "/interfaces/0/verify/max_gaps", "allowed here are"},
-        std::tuple{R"("continuity": "C2")", "/interfaces/0/continuity", "none"}}) {
+        std::tuple{R"("continuity": "C2")", "/interfaces/0/continuity", "none"},
+        std::tuple{R"("closure": "tight")", "/interfaces/0/closure", "least_squares"},
+        std::tuple{R"("continuity": "none", "closure": "exact")", "/interfaces/0/closure", "never closed"}}) {
     try {
       parse_scene(seam_scene(fields), "seam.json");
       ADD_FAILURE() << "accepted " << fields;
@@ -155,6 +157,25 @@ TEST(SeamMetrics, DefaultThresholdsAndVerifyParsing) {
       EXPECT_EQ(e.json_path(), path) << e.what();
       EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
     }
+  }
+}
+
+TEST(SeamVerify, ExactClosureRefusesPinnedLeaderRows) {
+  // 8 vs 10 cells along the seam (left leads) share one interior knot; the flat rest state lies in that
+  // space, so the seam is accepted, unless a pin holds the leader rows the closure must move.
+  const Scene ok = parse_scene(seam_scene(R"("closure": "exact")"), "seam.json");
+  EXPECT_TRUE(ok.interfaces.at(0).coupling.exact);
+  EXPECT_EQ(ok.interfaces.at(0).coupling.shared.E1.cols(), 4);
+  EXPECT_EQ(ok.interfaces.at(0).leader_neighbours.size(), 6u * 10u);  // 6 rows of the 6 x 10 leader net
+  const std::string follower_pin = R"(, "pins": [{"shell": "right", "region": {"u": [0.0, 0.1]}}])";
+  EXPECT_NO_THROW(parse_scene(seam_scene(R"("closure": "exact")", "[0, 0, -1]", follower_pin), "seam.json"));
+  const std::string leader_pin = R"(, "pins": [{"shell": "left", "region": {"u": [0.9, 1.0]}}])";
+  try {
+    parse_scene(seam_scene(R"("closure": "exact")", "[0, 0, -1]", leader_pin), "seam.json");
+    ADD_FAILURE() << "accepted a pinned leader row";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.json_path(), "/interfaces/0/closure");
+    EXPECT_NE(std::string(e.what()).find("the pin at /pins/0 holds one of them"), std::string::npos) << e.what();
   }
 }
 
@@ -270,6 +291,23 @@ TEST(SeamVerify, NonNestedC1DrapeMatchesOnePatch) {
   EXPECT_GT(c1.gap, 1e-9 * c1.model_size);
   EXPECT_LE(c1.gap, 1e-3 * c1.model_size);
   EXPECT_LE(c1.angle, 4.0);
+}
+
+TEST(SeamVerify, ExactClosureSealsTheNonNestedDrape) {
+  // 20 vs 25 cells share every 5th / 4th knot: 5 spans. With the leader's rows kept in that shared
+  // space, Eq. 4.29 and 4.34 reproduce them: the issue's limits hold at every frame of the whole drape.
+  const DrapeRun c0 = run_drape(false, R"("continuity": "C0", "closure": "exact")");
+  const DrapeRun c1 = run_drape(false, R"("continuity": "C1", "closure": "exact")");
+  const DrapeRun one = run_drape(true);
+  double worst = 0;
+  for (size_t k = 0; k < 4; ++k) worst = std::max(worst, (c1.corners[k] - one.corners[k]).norm());
+  std::printf("exact closure, drape 20/25: C0 gap %.3g m, angle %.3g deg; C1 gap %.3g m, angle %.3g deg, seam stress "
+              "ratio %.4g; corners vs one patch %.3g m\n",
+              c0.gap, c0.angle, c1.gap, c1.angle, c1.final_ratio, worst);
+  EXPECT_LE(c0.gap, 1e-9 * c0.model_size);
+  EXPECT_LE(c1.gap, 1e-9 * c1.model_size);
+  EXPECT_LE(c1.angle, 0.5);
+  EXPECT_GT(c0.angle, 10.0);  // C0 alone still folds at the seam
 }
 
 TEST(SeamVerify, UncoupledDrapeCreases) {
