@@ -113,9 +113,15 @@ void Simulation::stage_coupling(double dt) {
     const std::vector<unsigned char>& released = seams_[i].released;
     std::vector<int> rows = c.follower_row1;
     if (c.continuity == coupling::Continuity::C1) rows.insert(rows.end(), c.follower_row2.begin(), c.follower_row2.end());
-    // Without the correction only the coupled rows move: the velocity field is discontinuous at the seam.
-    if (spec.momentum_correction)
-      correct_near_seam(static_cast<size_t>(c.follower_patch), rows, target, released, spec.follower_neighbours, dt);
+    if (!spec.momentum_correction) {
+      // The uncorrected comparison of thesis sec. 4.8.1.1: Eq. 4.29 (and 4.34) set only the positions of
+      // the coupled rows; their velocities stay what the grid gave them, so the momentum they carry back
+      // to the grid next step is not that of their motion, and nothing moves the rows behind them along.
+      for (size_t k = 0; k < rows.size(); ++k)
+        if (!released[k]) follower.x[static_cast<size_t>(rows[k])] = target[k];
+      continue;
+    }
+    correct_near_seam(static_cast<size_t>(c.follower_patch), rows, target, released, spec.follower_neighbours, dt);
     for (size_t k = 0; k < rows.size(); ++k)  // the coupled rows sit exactly on their targets
       if (!released[k]) {
         follower.x[static_cast<size_t>(rows[k])] = target[k];
@@ -136,7 +142,7 @@ void Simulation::stage_coupling(double dt) {
     for (size_t k = 0; k < c.follower_row1.size(); ++k)
       if (!seams_[i].released[k]) {
         follower.x[static_cast<size_t>(c.follower_row1[k])] = target[k];
-        follower.v[static_cast<size_t>(c.follower_row1[k])] = target_v[k];
+        if (spec.momentum_correction) follower.v[static_cast<size_t>(c.follower_row1[k])] = target_v[k];
       }
   }
 }
