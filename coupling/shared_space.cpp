@@ -1,6 +1,5 @@
 #include "coupling/shared_space.hpp"
 
-#include <Eigen/Cholesky>
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
@@ -65,14 +64,6 @@ SharedSpace shared_space(const Edge& leader, const Edge& follower, bool reversed
                         " points, the leader edge has " + std::to_string(leader.row1.size()));
   }
   return s;
-}
-
-Eigen::MatrixXd mass_projector(const Eigen::MatrixXd& E, const Eigen::VectorXd& mass) {
-  if (mass.size() != E.rows() || mass.minCoeff() <= 0) {
-    throw CouplingError("exact closure needs a positive mass for every leader row point");
-  }
-  const Eigen::MatrixXd EtM = E.transpose() * mass.asDiagonal();
-  return E * (EtM * E).ldlt().solve(EtM);
 }
 
 }  // namespace shellfrac::coupling

@@ -12,6 +12,7 @@ namespace shellfrac::coupling {
 // minimum multiplicities); if the leader's coupled rows are kept in that shared space, Eq. 4.29 and
 // Eq. 4.34 reproduce them exactly and the seam closes to roundoff. The price is resolution: along the
 // seam the leader moves only as finely as the shared knots allow (100 vs 125 cells share 25 spans).
+// The rows are put there by coupling::RowProjection (row_projection.hpp).
 struct SharedSpace {
   std::vector<double> knots;  // shared knot vector in the leader's edge parameter
   Eigen::MatrixXd E1;         // n_lambda x n_shared: leader row 1 = E1 s (rational knot insertion)
@@ -23,10 +24,5 @@ struct SharedSpace {
 // or when the edges share no interior knot structure at all beyond what the tolerances allow, a
 // CouplingError names the measured residual.
 SharedSpace shared_space(const Edge& leader, const Edge& follower, bool reversed, bool with_row2);
-
-// Mass-weighted projection onto range(E): P = E (E^T M E)^-1 E^T M with M = diag(mass). Constants lie in
-// range(E) (partition of unity), so sum_k m_k (P x)_k = sum_k m_k x_k: applied to positions and
-// velocities it moves neither the rows' centre of mass nor their momentum. Masses must be positive.
-Eigen::MatrixXd mass_projector(const Eigen::MatrixXd& E, const Eigen::VectorXd& mass);
 
 }  // namespace shellfrac::coupling

@@ -133,8 +133,12 @@ struct InterfaceSpec {
   // Follower control points near the seam that receive the corrected velocity from the grid (Eq. 4.32):
   // the rows within the quadratic stencil's reach (three rows) of the coupled ones.
   std::vector<int> follower_neighbours;
-  // Exact closure: the leader's rows are projected each step, and these leader points near the seam take
-  // the projection's correction from the grid in the same way.
+  // "seam_velocity": "leader" (default) is the thesis's update (sec. 4.8.1): the leader's rows move as the
+  // grid moved them and the follower rows' grid velocities are dropped. "projected": the coupled rows of
+  // both patches decide the seam's motion (mass-weighted projection onto the coupling constraint,
+  // coupling/row_projection.hpp), which removes the leader/follower asymmetry (docs/coupling.md).
+  bool project_both_sides = false;
+  // Leader points near the seam that take the projection's correction from the grid (as Eq. 4.32).
   std::vector<int> leader_neighbours;
 };
 

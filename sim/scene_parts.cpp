@@ -292,6 +292,7 @@ std::vector<InterfaceSpec> read_interfaces(ObjectReader& root, const std::vector
     const std::string closure = r.choice_or("closure", "least_squares", {"least_squares", "exact"});
     if (closure == "exact" && continuity == "none") r.fail("closure", "a seam with \"continuity\": \"none\" is never closed");
     options.closure = closure == "exact" ? coupling::Closure::Exact : coupling::Closure::LeastSquares;
+    const bool both_sides = r.choice_or("seam_velocity", "leader", {"leader", "projected"}) == "projected";
     InterfaceSpec spec;
     if (auto v = r.optional_object("verify")) spec.verify = read_interface_verify(*v);
     spec.coupled = continuity != "none";
@@ -304,11 +305,12 @@ std::vector<InterfaceSpec> read_interfaces(ObjectReader& root, const std::vector
     }
     spec.json_path = path;
     spec.momentum_correction = correction;
+    spec.project_both_sides = both_sides;
     // Rows 0..5 counted from the coupled side: the coupled rows plus those whose quadratic stencils
-    // share grid nodes with them. The leader's only move for exact closure.
+    // share grid nodes with them.
     const coupling::Interface& c = spec.coupling;
     spec.follower_neighbours = rows_near_side(shells[static_cast<size_t>(c.follower_patch)].surface, c.follower_side);
-    if (c.exact) spec.leader_neighbours = rows_near_side(shells[static_cast<size_t>(c.leader_patch)].surface, c.leader_side);
+    spec.leader_neighbours = rows_near_side(shells[static_cast<size_t>(c.leader_patch)].surface, c.leader_side);
     out.push_back(std::move(spec));
   }
   return out;

@@ -1,7 +1,11 @@
-// The coupling stage of a time step (thesis sec. 4.8): follower rows placed from their leaders, with
-// the momentum-correction velocity carried to the neighbouring control points, and the optional exact
-// closure that first keeps the leader's rows in the spline space both edges share.
+// The coupling stage of a time step (thesis sec. 4.8): the leader's coupled rows projected onto the
+// coupling constraint with both patches' rows (or, as in the thesis, left as the grid moved them), then
+// the follower rows placed from the leader's, with the momentum-correction velocity carried to the
+// neighbouring control points.
+#include <algorithm>
 #include <cstdint>
+
+#include "coupling/row_projection.hpp"
 
 #include "sim/simulation.hpp"
 
@@ -59,39 +63,95 @@ void Simulation::correct_near_seam(size_t patch, const std::vector<int>& rows,
   }
 }
 
-void Simulation::close_onto_shared_space(size_t seam, double dt) {
-  // Exact closure (coupling/shared_space.hpp): the leader's coupled rows, positions and velocities, are
-  // projected onto the shared spline space with their masses (centre of mass and momentum unchanged), so
-  // that the follower rows of Eq. 4.29 / 4.34 reproduce the leader's edge exactly. The projection's jump
-  // reaches the leader's neighbouring points through the grid like the follower's correction.
+namespace {
+
+// Held leader points weigh this many times their mass in the row projection, so that the projection
+// works around them; their state is then restored exactly.
+constexpr double kHeldWeight = 1e8;
+
+std::vector<int> stacked_rows(const std::vector<int>& row1, const std::vector<int>& row2, bool c1) {
+  std::vector<int> rows = row1;
+  if (c1) rows.insert(rows.end(), row2.begin(), row2.end());
+  return rows;
+}
+
+coupling::PointRows gather_rows(const std::vector<Eigen::Vector3d>& x, const std::vector<int>& rows) {
+  coupling::PointRows out(static_cast<Eigen::Index>(rows.size()), 3);
+  for (size_t k = 0; k < rows.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = x[static_cast<size_t>(rows[k])].transpose();
+  return out;
+}
+
+}  // namespace
+
+void Simulation::build_seam_projection(size_t seam) {
   const InterfaceSpec& spec = scene_.interfaces[seam];
-  const coupling::Interface& c = spec.coupling;
+  SeamState& st = seams_[seam];
+  const bool exact = spec.coupling.exact && !st.cut;  // a cut seam falls back to its cut operators
+  st.projection.reset();
+  if (!spec.project_both_sides && !exact) return;  // thesis: the leader's rows stay as the grid moved them
+  const coupling::Interface& c = st.cut ? *st.cut : spec.coupling;
+  const bool c1 = c.continuity == coupling::Continuity::C1;
+  const auto lp = static_cast<size_t>(c.leader_patch), fp = static_cast<size_t>(c.follower_patch);
+  const std::vector<int> lrows = stacked_rows(c.leader_row1, c.leader_row2, c1);
+  const std::vector<int> frows = stacked_rows(c.follower_row1, c.follower_row2, c1);
+  // Held leader points keep what the grid (or a pin, or another seam at a patch corner) gave them: the
+  // projection moving them would open the other seam or break the pin.
+  auto in_rows = [](const std::vector<int>& rows, int k) { return std::find(rows.begin(), rows.end(), k) != rows.end(); };
+  auto other_seam_sets = [&](int k) {
+    for (size_t j = 0; j < scene_.interfaces.size(); ++j) {
+      const coupling::Interface& o = scene_.interfaces[j].coupling;
+      if (j == seam) continue;
+      if (static_cast<size_t>(o.follower_patch) == lp && (in_rows(o.follower_row1, k) || in_rows(o.follower_row2, k)))
+        return true;
+      if (static_cast<size_t>(o.leader_patch) == lp && (in_rows(o.leader_row1, k) || in_rows(o.leader_row2, k)))
+        return true;
+    }
+    return false;
+  };
+  st.leader_held.assign(lrows.size(), 0);
+  for (size_t k = 0; k < lrows.size(); ++k)
+    st.leader_held[k] = transfer_mass_[lp][static_cast<size_t>(lrows[k])] == 0 || other_seam_sets(lrows[k]);
+  // The correction reaches the leader's points near the seam except those another seam sets.
+  st.leader_neighbours.clear();
+  for (int k : spec.leader_neighbours)
+    if (!other_seam_sets(k)) st.leader_neighbours.push_back(k);
+  Eigen::VectorXd ml(static_cast<Eigen::Index>(lrows.size())), mf(static_cast<Eigen::Index>(frows.size()));
+  for (size_t k = 0; k < lrows.size(); ++k)
+    ml[static_cast<Eigen::Index>(k)] = patches_[lp].mass[static_cast<size_t>(lrows[k])] * (st.leader_held[k] ? kHeldWeight : 1.0);
+  for (size_t k = 0; k < frows.size(); ++k)  // rows a crack released move on their own: no say
+    mf[static_cast<Eigen::Index>(k)] =
+        spec.project_both_sides && !st.released[k] ? patches_[fp].mass[static_cast<size_t>(frows[k])] : 0.0;
+  st.projection.emplace(c, exact, ml, mf);
+}
+
+void Simulation::project_seam_rows(size_t seam, double dt) {
+  // The leader's coupled rows take the state nearest (mass norm) to what the grid gave both patches'
+  // rows among those the coupling allows (coupling/row_projection.hpp): the rows' momentum is kept, and
+  // for exact closure the rows stay in the shared space. Their jump from where the grid put them reaches
+  // the leader's neighbouring points through the grid, like the follower's correction (Eq. 4.30-4.32).
+  const InterfaceSpec& spec = scene_.interfaces[seam];
   const SeamState& st = seams_[seam];
+  const coupling::Interface& c = st.cut ? *st.cut : spec.coupling;
+  const bool c1 = c.continuity == coupling::Continuity::C1;
   const auto lp = static_cast<size_t>(c.leader_patch);
   shell::ShellPatch& leader = patches_[lp];
-  std::vector<int> rows;
-  std::vector<Eigen::Vector3d> target, target_v;
-  auto project = [&](const std::vector<int>& row, const Eigen::MatrixXd& P) {
-    const auto n = static_cast<Eigen::Index>(row.size());
-    Eigen::Matrix<double, Eigen::Dynamic, 3> x(n, 3), v(n, 3);
-    for (Eigen::Index k = 0; k < n; ++k) {
-      x.row(k) = leader.x[static_cast<size_t>(row[static_cast<size_t>(k)])].transpose();
-      v.row(k) = leader.v[static_cast<size_t>(row[static_cast<size_t>(k)])].transpose();
-    }
-    const Eigen::Matrix<double, Eigen::Dynamic, 3> px = P * x, pv = P * v;
-    for (Eigen::Index k = 0; k < n; ++k) {
-      rows.push_back(row[static_cast<size_t>(k)]);
-      target.emplace_back(px.row(k).transpose());
-      target_v.emplace_back(pv.row(k).transpose());
-    }
-  };
-  project(c.leader_row1, st.leader_projector1);
-  if (c.continuity == coupling::Continuity::C1) project(c.leader_row2, st.leader_projector2);
+  const shell::ShellPatch& follower = patches_[static_cast<size_t>(c.follower_patch)];
+  const std::vector<int> lrows = stacked_rows(c.leader_row1, c.leader_row2, c1);
+  const std::vector<int> frows = stacked_rows(c.follower_row1, c.follower_row2, c1);
+  const coupling::PointRows x = st.projection->apply(gather_rows(leader.x, lrows), gather_rows(follower.x, frows));
+  const coupling::PointRows v = st.projection->apply(gather_rows(leader.v, lrows), gather_rows(follower.v, frows));
+  std::vector<Eigen::Vector3d> target(lrows.size()), target_v(lrows.size());
+  for (size_t k = 0; k < lrows.size(); ++k) {
+    const auto p = static_cast<size_t>(lrows[k]);
+    const bool held = st.leader_held[k];
+    target[k] = held ? leader.x[p] : Eigen::Vector3d(x.row(static_cast<Eigen::Index>(k)).transpose());
+    target_v[k] = held ? leader.v[p] : Eigen::Vector3d(v.row(static_cast<Eigen::Index>(k)).transpose());
+  }
   if (spec.momentum_correction)
-    correct_near_seam(lp, rows, target, std::vector<unsigned char>(rows.size(), 0), spec.leader_neighbours, dt);
-  for (size_t k = 0; k < rows.size(); ++k) {
-    leader.x[static_cast<size_t>(rows[k])] = target[k];
-    leader.v[static_cast<size_t>(rows[k])] = target_v[k];
+    correct_near_seam(lp, lrows, target, std::vector<unsigned char>(lrows.size(), 0), st.leader_neighbours, dt);
+  for (size_t k = 0; k < lrows.size(); ++k) {
+    leader.x[static_cast<size_t>(lrows[k])] = target[k];
+    leader.v[static_cast<size_t>(lrows[k])] = target_v[k];
   }
 }
 
@@ -101,8 +161,7 @@ void Simulation::stage_coupling(double dt) {
   for (size_t i = 0; i < scene_.interfaces.size(); ++i) {
     const InterfaceSpec& spec = scene_.interfaces[i];
     if (!spec.coupled) continue;
-    // A seam a crack has cut falls back to its cut least-squares operators (seam_cracks.cpp).
-    if (spec.coupling.exact && !seams_[i].cut) close_onto_shared_space(i, dt);
+    if (seams_[i].projection) project_seam_rows(i, dt);
     const coupling::Interface& c = seams_[i].cut ? *seams_[i].cut : spec.coupling;
     const shell::ShellPatch& leader = patches_[static_cast<size_t>(c.leader_patch)];
     shell::ShellPatch& follower = patches_[static_cast<size_t>(c.follower_patch)];

@@ -74,15 +74,7 @@ void Simulation::init_seams() {
     for (int k : c.leader_row1) st.leader_along.push_back(seam_of(lead, lp.control_parameter(static_cast<size_t>(k))).along);
     for (int k : c.follower_row1) st.follower_along.push_back(seam_of(follow, fp.control_parameter(static_cast<size_t>(k))).along);
     st.released.assign(c.follower_row1.size() * (c.continuity == coupling::Continuity::C1 ? 2 : 1), 0);
-    if (c.exact) {  // the true masses (pins on these rows are rejected when the scene is read)
-      auto projector = [&](const std::vector<int>& row, const Eigen::MatrixXd& E) {
-        Eigen::VectorXd m(static_cast<Eigen::Index>(row.size()));
-        for (size_t k = 0; k < row.size(); ++k) m[static_cast<Eigen::Index>(k)] = lp.mass[static_cast<size_t>(row[k])];
-        return coupling::mass_projector(E, m);
-      };
-      st.leader_projector1 = projector(c.leader_row1, c.shared.E1);
-      if (c.continuity == coupling::Continuity::C1) st.leader_projector2 = projector(c.leader_row2, c.shared.E2);
-    }
+    build_seam_projection(i);
   }
   // Seams whose row 1 shares a control point with another seam's coupled rows (patch corners): their
   // row 1 is placed once more after all seams (Simulation::stage_coupling).
@@ -153,6 +145,7 @@ void Simulation::update_seam_cracks() {
     coupling::SeamCut cut = coupling::cut_interface(c, st.follower_along, st.leader_along, st.cracks);
     st.released = std::move(cut.released);
     st.cut = std::move(cut.coupling);
+    build_seam_projection(i);
   }
 }
 

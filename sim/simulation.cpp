@@ -254,9 +254,8 @@ void Simulation::stage_g2p(double dt) {
   for (const InterfaceSpec& spec : scene_.interfaces) {
     start_positions_[static_cast<size_t>(spec.coupling.follower_patch)] =
         patches_[static_cast<size_t>(spec.coupling.follower_patch)].x;
-    if (spec.coupling.exact)
-      start_positions_[static_cast<size_t>(spec.coupling.leader_patch)] =
-          patches_[static_cast<size_t>(spec.coupling.leader_patch)].x;
+    start_positions_[static_cast<size_t>(spec.coupling.leader_patch)] =
+        patches_[static_cast<size_t>(spec.coupling.leader_patch)].x;
   }
   for (auto& p : patches_) {
     tbb::parallel_for(size_t{0}, p.x.size(), [&](size_t k) { p.x[k] += dt * p.v[k]; });  // thesis Eq. 4.9

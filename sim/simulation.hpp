@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "coupling/row_projection.hpp"
 #include "crack2d/consistent_extraction.hpp"
 #include "mpm/phantom_nodes.hpp"
 #include "mpm/solid_particles.hpp"
@@ -102,7 +103,8 @@ class Simulation {
   void stage_coupling(double dt);
   void correct_near_seam(size_t patch, const std::vector<int>& rows, const std::vector<Eigen::Vector3d>& target,
                          const std::vector<unsigned char>& released, const std::vector<int>& neighbours, double dt);
-  void close_onto_shared_space(size_t seam, double dt);
+  void build_seam_projection(size_t seam);
+  void project_seam_rows(size_t seam, double dt);
   void init_cracks();
   void count_crack_state();  // crack_stats_ counts of the current graphs and MLS points
   void init_seams();
@@ -135,8 +137,11 @@ class Simulation {
     std::vector<unsigned char> released; // per follower row entry: the crack separated it from its leaders
     std::optional<coupling::Interface> cut;  // the operators with the crack's connections dropped
     bool shares_points = false;  // a row-1 point is also a coupled row point of another seam (corner)
-    // Exact closure: mass-weighted projectors of the leader's rows onto the shared space (row 1, row 2).
-    Eigen::MatrixXd leader_projector1, leader_projector2;
+    // The leader rows' projection onto the coupling constraint (seam_coupling.cpp); none in the thesis's
+    // leader-only mode without exact closure.
+    std::optional<coupling::RowProjection> projection;
+    std::vector<unsigned char> leader_held;  // per stacked leader row point: pinned or set by another seam
+    std::vector<int> leader_neighbours;      // of the interface's, those no other seam sets
   };
   std::vector<SeamState> seams_;
   std::vector<Eigen::Vector3d> node_scratch_;  // momentum correction per grid node, zero between uses

@@ -7,7 +7,7 @@
 
 #include "coupling/edge_gap.hpp"
 #include "coupling/interface.hpp"
-#include "coupling/shared_space.hpp"
+#include "coupling/row_projection.hpp"
 #include "tests/coupling/coupling_test_helpers.hpp"
 
 namespace shellfrac::coupling {
@@ -85,12 +85,14 @@ SeamMeasure bend_project_and_couple(const nurbs::NurbsSurface& leader, Side ls, 
   const Interface itf = make_interface(leader, 0, ls, follower, 1, fs, reversed, o);
   nurbs::Vec3List lx = leader.control_points(), fx = follower.control_points();
   for (Vec3& p : lx) p = bend(p);
-  for (const auto& [row, E] : {std::pair{&itf.leader_row1, &itf.shared.E1}, std::pair{&itf.leader_row2, &itf.shared.E2}}) {
-    PointRows x(static_cast<Eigen::Index>(row->size()), 3);
-    for (std::size_t k = 0; k < row->size(); ++k) x.row(static_cast<Eigen::Index>(k)) = lx[static_cast<std::size_t>((*row)[k])];
-    const PointRows px = mass_projector(*E, masses) * x;
-    for (std::size_t k = 0; k < row->size(); ++k) lx[static_cast<std::size_t>((*row)[k])] = px.row(static_cast<Eigen::Index>(k));
-  }
+  // Leader-only projection (follower masses zero) of the stacked rows 1 and 2.
+  const RowProjection projection(itf, true, masses, Eigen::VectorXd::Zero(2 * static_cast<Eigen::Index>(itf.follower_row1.size())));
+  std::vector<int> rows = itf.leader_row1;
+  rows.insert(rows.end(), itf.leader_row2.begin(), itf.leader_row2.end());
+  PointRows x(static_cast<Eigen::Index>(rows.size()), 3);
+  for (std::size_t k = 0; k < rows.size(); ++k) x.row(static_cast<Eigen::Index>(k)) = lx[static_cast<std::size_t>(rows[k])];
+  const PointRows px = projection.apply(x, PointRows::Zero(projection.follower_rows(), 3));
+  for (std::size_t k = 0; k < rows.size(); ++k) lx[static_cast<std::size_t>(rows[k])] = px.row(static_cast<Eigen::Index>(k));
   itf.apply(lx, fx);
   return measure_seam(test::with_points(leader, lx), test::with_points(follower, fx), itf);
 }
@@ -155,8 +157,8 @@ TEST(C1Coupling, NonNestedKnotsBentLeaderReport) {
 TEST(C1Coupling, ExactClosureNonNestedBentLeaderSmoothSeam) {
   // 10 vs 15 cells share 5 spans. The bent leader's rows projected there (uneven masses) are reproduced
   // by Eq. 4.29 and 4.34 exactly, where the least-squares coupling of the same bend leaves a gap.
-  Eigen::VectorXd masses(12);
-  for (int k = 0; k < 12; ++k) masses[k] = 1.0 + 0.5 * std::sin(1.7 * k) + (k == 0 || k == 11 ? -0.5 : 0.0);
+  Eigen::VectorXd masses(24);  // rows 1 and 2 of the 12-point leader edge
+  for (int k = 0; k < 24; ++k) masses[k] = 1.0 + 0.5 * std::sin(1.7 * k) + (k % 12 == 0 || k % 12 == 11 ? -0.5 : 0.0);
   for (bool flipped : {false, true}) {
     const SeamMeasure exact = bend_project_and_couple(flat_leader(), Side::U1, flat_follower(15, flipped), Side::U0,
                                                       flipped, masses);

@@ -1,11 +1,13 @@
 // Exact seam closure (coupling/shared_space.hpp): the spline space two non-nested edges share, the
-// insertion matrices onto the leader, the mass-weighted projector, and the checks that refuse it.
+// insertion matrices onto the leader and the checks that refuse it; and the mass-weighted projection of
+// a seam's rows onto the coupling constraint (coupling/row_projection.hpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
 #include "coupling/interface.hpp"
+#include "coupling/row_projection.hpp"
 #include "coupling/shared_space.hpp"
 #include "coupling/virtual_refinement.hpp"
 #include "nurbs/knot_insertion.hpp"
@@ -51,26 +53,92 @@ TEST(SharedSpace, NonNestedFlatEdgesShareEveryCommonKnot) {
   for (int k = 0; k < 10; ++k) EXPECT_LT((mapped.row(k).transpose() - fine.control_points()[static_cast<std::size_t>(k)]).norm(), 1e-14);
 }
 
-TEST(SharedSpace, MassProjectorKeepsMomentumAndIsIdempotent) {
+// Stacked rows (row 1 then row 2 for C1) of a control point list.
+PointRows gather(const nurbs::Vec3List& x, const std::vector<int>& row1, const std::vector<int>& row2 = {}) {
+  PointRows out(static_cast<Eigen::Index>(row1.size() + row2.size()), 3);
+  Eigen::Index k = 0;
+  for (int i : row1) out.row(k++) = x[static_cast<std::size_t>(i)];
+  for (int i : row2) out.row(k++) = x[static_cast<std::size_t>(i)];
+  return out;
+}
+
+Eigen::VectorXd random_masses(std::mt19937& rng, Eigen::Index n) {
+  std::uniform_real_distribution<double> mass(0.5, 2.0);
+  Eigen::VectorXd m(n);
+  for (Eigen::Index k = 0; k < n; ++k) m[k] = mass(rng);
+  return m;
+}
+
+PointRows random_rows(std::mt19937& rng, Eigen::Index n) {
+  PointRows v(n, 3);
+  for (Eigen::Index k = 0; k < n; ++k) v.row(k) = test::random_vec(rng, 1.0);
+  return v;
+}
+
+TEST(RowProjection, LeaderOnlyExactClosureKeepsMomentumAndIsIdempotent) {
   const nurbs::NurbsSurface leader = nurbs::flat_patch(1.0, 1.0, 4, 8, frame_at(Vec3(-1, 0, 0)));
   const nurbs::NurbsSurface follower = nurbs::flat_patch(1.0, 1.0, 5, 10);
   const Interface itf = make_interface(leader, 0, Side::U1, follower, 1, Side::U0, false, exact(Continuity::C0));
   std::mt19937 rng(3);
-  std::uniform_real_distribution<double> mass(0.5, 2.0);
-  Eigen::VectorXd m(10);
-  for (int k = 0; k < 10; ++k) m[k] = mass(rng);
-  const Eigen::MatrixXd P = mass_projector(itf.shared.E1, m);
-  PointRows v(10, 3);
-  for (int k = 0; k < 10; ++k) v.row(k) = test::random_vec(rng, 1.0);
-  const PointRows pv = P * v;
-  // Momentum sum_k m_k v_k is unchanged (to roundoff), the projection of a projection is itself, and a
-  // shared-space state does not move.
+  const Eigen::VectorXd m = random_masses(rng, 10);
+  const RowProjection P(itf, true, m, Eigen::VectorXd::Zero(12));
+  const PointRows none = PointRows::Zero(12, 3);
+  const PointRows v = random_rows(rng, 10);
+  const PointRows pv = P.apply(v, none);
+  // Momentum sum_k m_k v_k is unchanged (to roundoff), projecting twice changes nothing, the result lies
+  // in the shared space, and the residual is M-orthogonal to that space (the nearest state).
   EXPECT_LT((m.transpose() * pv - m.transpose() * v).norm(), 1e-13);
-  EXPECT_LT((P * P - P).cwiseAbs().maxCoeff(), 1e-13);
   EXPECT_GT((pv - v).norm(), 0.1);
-  EXPECT_LT((P * pv - pv).cwiseAbs().maxCoeff(), 1e-13);
-  // It is the M-orthogonal projection: the residual is M-orthogonal to the space.
-  EXPECT_LT((itf.shared.E1.transpose() * m.asDiagonal() * (v - pv)).cwiseAbs().maxCoeff(), 1e-13);
+  EXPECT_LT((P.apply(pv, none) - pv).cwiseAbs().maxCoeff(), 1e-13);
+  const Eigen::MatrixXd& E = itf.shared.E1;
+  const PointRows s = E.completeOrthogonalDecomposition().solve(pv);
+  EXPECT_LT((E * s - pv).cwiseAbs().maxCoeff(), 1e-13);
+  EXPECT_LT((E.transpose() * m.asDiagonal() * (v - pv)).cwiseAbs().maxCoeff(), 1e-13);
+}
+
+TEST(RowProjection, BothSidesConformingSeamTakesTheMassWeightedMean) {
+  // Conforming C0 (8 and 8 cells): the follower's edge is the leader's, so the nearest state puts every
+  // shared point at the mass-weighted mean of the two grid values.
+  const nurbs::NurbsSurface leader = nurbs::flat_patch(1.0, 1.0, 4, 8, frame_at(Vec3(-1, 0, 0)));
+  const nurbs::NurbsSurface follower = nurbs::flat_patch(1.0, 1.0, 5, 8);
+  InterfaceOptions o;
+  o.continuity = Continuity::C0;
+  const Interface itf = make_interface(leader, 0, Side::U1, follower, 1, Side::U0, false, o);
+  std::mt19937 rng(11);
+  const Eigen::VectorXd ml = random_masses(rng, 10), mf = random_masses(rng, 10);
+  const PointRows l = random_rows(rng, 10), f = random_rows(rng, 10);
+  const PointRows got = RowProjection(itf, false, ml, mf).apply(l, f);
+  for (Eigen::Index k = 0; k < 10; ++k) {
+    const Eigen::RowVector3d mean = (ml[k] * l.row(k) + mf[k] * f.row(k)) / (ml[k] + mf[k]);
+    EXPECT_LT((got.row(k) - mean).norm(), 1e-14) << k;
+  }
+}
+
+TEST(RowProjection, BothSidesNonNestedC1KeepsTheRowsMomentum) {
+  // 8 vs 10 cells, C1, rows 1 and 2 of both sides: the result satisfies the coupling (the follower rows
+  // are B L), keeps sum m L + sum m F of the grid's rows, and leaves a coupled state unchanged.
+  const nurbs::NurbsSurface leader = nurbs::flat_patch(1.0, 1.0, 4, 8, frame_at(Vec3(-1, 0, 0)));
+  const nurbs::NurbsSurface follower = nurbs::flat_patch(1.0, 1.0, 5, 10);
+  const Interface itf = make_interface(leader, 0, Side::U1, follower, 1, Side::U0, false);
+  ASSERT_EQ(itf.continuity, Continuity::C1);
+  std::mt19937 rng(17);
+  const Eigen::VectorXd ml = random_masses(rng, 20), mf = random_masses(rng, 24);
+  const PointRows l = random_rows(rng, 20), f = random_rows(rng, 24);
+  const RowProjection P(itf, false, ml, mf);
+  const PointRows got = P.apply(l, f);
+  const Eigen::MatrixXd B = stacked_operator(itf);
+  const Eigen::RowVector3d before = ml.transpose() * l + mf.transpose() * f;
+  const Eigen::RowVector3d after = ml.transpose() * got + mf.transpose() * (B * got);
+  EXPECT_LT((after - before).norm(), 1e-12 * before.norm());
+  // B reproduces Eq. 4.29 / 4.34 as the interface applies them.
+  nurbs::Vec3List lx = leader.control_points(), fx = follower.control_points();
+  for (std::size_t k = 0; k < 10; ++k) {
+    lx[static_cast<std::size_t>(itf.leader_row1[k])] = got.row(static_cast<Eigen::Index>(k));
+    lx[static_cast<std::size_t>(itf.leader_row2[k])] = got.row(static_cast<Eigen::Index>(10 + k));
+  }
+  itf.apply(lx, fx);
+  EXPECT_LT((gather(fx, itf.follower_row1, itf.follower_row2) - B * got).cwiseAbs().maxCoeff(), 1e-14);
+  EXPECT_LT((P.apply(got, B * got) - got).cwiseAbs().maxCoeff(), 1e-12);
 }
 
 TEST(SharedSpace, RationalArcEdgesCloseExactly) {
@@ -83,10 +151,11 @@ TEST(SharedSpace, RationalArcEdgesCloseExactly) {
   ASSERT_EQ(itf.shared.E1.cols(), 4);
   std::mt19937 rng(5);
   nurbs::Vec3List lx = lower.control_points(), fx = upper.control_points();
-  PointRows x(static_cast<Eigen::Index>(itf.leader_row1.size()), 3);
-  for (std::size_t k = 0; k < itf.leader_row1.size(); ++k)
-    x.row(static_cast<Eigen::Index>(k)) = lx[static_cast<std::size_t>(itf.leader_row1[k])] + test::random_vec(rng, 0.2);
-  const PointRows px = mass_projector(itf.shared.E1, Eigen::VectorXd::Ones(x.rows())) * x;
+  PointRows x = gather(lx, itf.leader_row1);
+  for (Eigen::Index k = 0; k < x.rows(); ++k) x.row(k) += test::random_vec(rng, 0.2).transpose();
+  const auto n = static_cast<Eigen::Index>(itf.follower_row1.size());
+  const PointRows px = RowProjection(itf, true, Eigen::VectorXd::Ones(x.rows()), Eigen::VectorXd::Zero(n))
+                           .apply(x, PointRows::Zero(n, 3));
   for (std::size_t k = 0; k < itf.leader_row1.size(); ++k)
     lx[static_cast<std::size_t>(itf.leader_row1[k])] = px.row(static_cast<Eigen::Index>(k));
   itf.apply(lx, fx);

@@ -149,7 +149,8 @@ TEST(SeamMetrics, DefaultThresholdsAndVerifyParsing) {
         std::tuple{R"("verify": {"max_gaps": 1})", "/interfaces/0/verify/max_gaps", "allowed here are"},
         std::tuple{R"("continuity": "C2")", "/interfaces/0/continuity", "none"},
         std::tuple{R"("closure": "tight")", "/interfaces/0/closure", "least_squares"},
-        std::tuple{R"("continuity": "none", "closure": "exact")", "/interfaces/0/closure", "never closed"}}) {
+        std::tuple{R"("continuity": "none", "closure": "exact")", "/interfaces/0/closure", "never closed"},
+        std::tuple{R"("seam_velocity": "average")", "/interfaces/0/seam_velocity", "projected"}}) {
     try {
       parse_scene(seam_scene(fields), "seam.json");
       ADD_FAILURE() << "accepted " << fields;
@@ -184,15 +185,16 @@ TEST(SeamVerify, ExactClosureRefusesPinnedLeaderRows) {
 // The cloth as one patch (11 x 20 cells), or as a left half with 20 cells along the seam and a right
 // half with `right_cells` (25: non-nested, the two share only every 5th / 4th knot; 40: nested) coupled
 // by `interface_fields`.
-std::string drape_scene(bool one_patch, const std::string& interface_fields, int right_cells, double end) {
+std::string drape_scene(bool one_patch, const std::string& interface_fields, int right_cells, double end,
+                        int right_across, int one_across) {
   const std::string material = R"("thickness": 0.0005, "quadrature": {"points": 3, "layers": 3},
        "material": {"E": 1e5, "nu": 0.3, "density": 300}})";
   std::string shells =
-      one_patch ? R"({"name": "cloth", "patch": {"type": "flat", "size": [1.0, 1.0], "cells": [11, 20],
+      one_patch ? R"({"name": "cloth", "patch": {"type": "flat", "size": [1.0, 1.0], "cells": [)" + std::to_string(one_across) + R"(, 20],
         "origin": [-0.5, 0.32, 0.5], "axis_u": [1, 0, 0], "axis_v": [0, 0, -1]}, )" + material
                 : R"({"name": "left", "patch": {"type": "flat", "size": [0.5, 1.0], "cells": [5, 20],
         "origin": [-0.5, 0.32, 0.5], "axis_u": [1, 0, 0], "axis_v": [0, 0, -1]}, )" + material + R"(,
-      {"name": "right", "patch": {"type": "flat", "size": [0.5, 1.0], "cells": [6, )" +
+      {"name": "right", "patch": {"type": "flat", "size": [0.5, 1.0], "cells": [)" + std::to_string(right_across) + ", " +
                       std::to_string(right_cells) + R"(],
         "origin": [0.0, 0.32, 0.5], "axis_u": [1, 0, 0], "axis_v": [0, 0, -1]}, )" + material;
   std::string s = R"({"name": "drape", "time": {"end": )" + std::to_string(end) + R"(, "cfl": 0.4}, "damping": 2.0,
@@ -228,8 +230,9 @@ double center_band_stress_ratio(const shell::ShellPatch& p) {
 }
 
 DrapeRun run_drape(bool one_patch, const std::string& interface_fields = "", int right_cells = 25,
-                   double end = 1.5) {
-  const Scene scene = parse_scene(drape_scene(one_patch, interface_fields, right_cells, end), "drape.json");
+                   double end = 1.5, int right_across = 6, int one_across = 11) {
+  const Scene scene =
+      parse_scene(drape_scene(one_patch, interface_fields, right_cells, end, right_across, one_across), "drape.json");
   Simulation sim(scene);
   DrapeRun r;
   r.model_size = model_size(scene);
@@ -277,12 +280,11 @@ TEST(SeamVerify, NonNestedC1DrapeMatchesOnePatch) {
   std::printf("non-nested C1 drape 20/25: max gap %.3g m (%.3g x model size), max angle %.3g deg; corners vs one "
               "patch %.3g m (%.2f%% of the 1 m cloth)\n",
               c1.gap, c1.gap / c1.model_size, c1.angle, worst, 100 * worst);
-  // The issue asks for 2% of the cloth size; measured 6.8% (the follower's corners spread 4-6 cm further
-  // out than the one-patch cloth's, the leader's stay within 3 cm). Not from the knot mismatch: a
-  // conforming split (20 and 20 cells) gives 8%, nested 20/40 10%, and the two halves of those symmetric
-  // splits end up different, so the coupled dynamics (follower rows driven kinematically from the
-  // leader) break the symmetry. For scale, the one-patch cloth itself moves 2.5 cm between 11 x 20 and
-  // 11 x 25 cells. Asserted with a margin over the measured value; see docs/coupling.md.
+  // The issue asks for 2% of the cloth size; measured 6.8% with the thesis's leader update. Not chaos
+  // (a 1 mm shift of the ball moves the one-patch corners 0.5 mm): the update treats the halves
+  // differently (see ProjectedSeamVelocityDrapesLikeOnePatch: 6.9 cm vs 0.61 cm on a conforming split),
+  // and these halves (5 x 20, 6 x 25 cells) have no one-patch equal; the one-patch drape itself moves
+  // 2.5-3.7 cm between 10-12 x 20-25 cells. Asserted with a margin over the measured value.
   EXPECT_LE(worst, 0.08 * 1.0);
   // Non-nested knots: the least-squares coupling (Eq. 4.29, 4.34) leaves a gap and a kink that the
   // issue's limits (1e-9 x model size, 0.5 degrees) do not allow. Measured 6.0e-4 m (4.3e-4 x model
@@ -308,6 +310,33 @@ TEST(SeamVerify, ExactClosureSealsTheNonNestedDrape) {
   EXPECT_LE(c1.gap, 1e-9 * c1.model_size);
   EXPECT_LE(c1.angle, 0.5);
   EXPECT_GT(c0.angle, 10.0);  // C0 alone still folds at the seam
+}
+
+TEST(SeamVerify, ProjectedSeamVelocityDrapesLikeOnePatch) {
+  // A conforming split (5 + 5 cells across, 20 along both halves) against one patch of 10 x 20 cells:
+  // the same knots, so the C1 coupling is exact and any difference is the coupled dynamics. The
+  // thesis's update (leader rows from the grid, follower rows' grid velocities dropped) treats the two
+  // halves differently; projecting both halves' rows onto the coupling keeps them mirror images.
+  const DrapeRun one = run_drape(true, "", 25, 1.5, 6, 10);
+  const DrapeRun leader = run_drape(false, R"("continuity": "C1")", 20, 1.5, 5);
+  const DrapeRun projected = run_drape(false, R"("continuity": "C1", "seam_velocity": "projected")", 20, 1.5, 5);
+  double worst_leader = 0, worst_projected = 0, mirror = 0;
+  for (size_t k = 0; k < 4; ++k) {
+    worst_leader = std::max(worst_leader, (leader.corners[k] - one.corners[k]).norm());
+    worst_projected = std::max(worst_projected, (projected.corners[k] - one.corners[k]).norm());
+  }
+  for (size_t k : {0, 2}) {  // left corner k against the right corner k + 1, mirrored through x = 0
+    const Eigen::Vector3d right = projected.corners[k + 1];
+    mirror = std::max(mirror, (projected.corners[k] - Eigen::Vector3d(-right.x(), right.y(), right.z())).norm());
+  }
+  std::printf("conforming drape 10/10 x 20 vs one patch 10 x 20: corners off by %.3g m (leader update), %.3g m "
+              "(projected); projected halves mirror each other to %.3g m; seam gap %.3g m\n",
+              worst_leader, worst_projected, mirror, projected.gap);
+  // Measured 6.9 cm (the follower half spreads 5.5 cm further along the seam) against 0.61 cm.
+  EXPECT_LE(worst_projected, 0.02 * 1.0);  // the issue's 2% of the 1 m cloth
+  EXPECT_GT(worst_leader, 0.04);
+  EXPECT_LE(mirror, 1e-6);
+  EXPECT_LE(projected.gap, 1e-9 * projected.model_size);
 }
 
 TEST(SeamVerify, UncoupledDrapeCreases) {
