@@ -56,7 +56,9 @@ Simulation::Simulation(const Scene& scene) : scene_(scene), grid_(1.0) {
     } catch (const std::invalid_argument& e) {  // e.g. a degenerate (collapsed) control net
       throw SceneError(scene.source, "/shells/" + std::to_string(i) + "/patch", e.what());
     }
+    // Every mass-carrying particle of the shell starts with it: control points and Type III particles.
     for (auto& v : patches_.back().v) v = s.initial_velocity;
+    for (auto& v : patches_.back().shear.v) v = s.initial_velocity;
     initial_positions_.push_back(patches_.back().x);
     transfer_mass_.push_back(patches_.back().mass);
     pin_reaction_.emplace_back(Eigen::Vector3d::Zero());
