@@ -20,9 +20,9 @@ struct SharedSpace {
 };
 
 // Builds the shared space of a leader and a follower edge (`reversed` as for the interface). The leader's
-// row weights must be representable on the shared knots (always true for polynomial edges); otherwise,
-// or when the edges share no interior knot structure at all beyond what the tolerances allow, a
-// CouplingError names the measured residual.
+// row weights must be representable on the shared knots (always true for polynomial edges); otherwise a
+// CouplingError names the measured residual. Edges sharing no interior knot get a single polynomial
+// piece (one span), which is valid but coarse.
 SharedSpace shared_space(const Edge& leader, const Edge& follower, bool reversed, bool with_row2);
 
 }  // namespace shellfrac::coupling
