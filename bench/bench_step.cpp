@@ -8,7 +8,7 @@
 
 #include <map>
 
-#include "sim/scene.hpp"
+#include "scene/build.hpp"
 #include "sim/simulation.hpp"
 
 namespace {
@@ -18,7 +18,7 @@ using shellfrac::sim::Simulation;
 void run_steps(benchmark::State& state, const char* scene_file) {
   const int threads = static_cast<int>(state.range(0));
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
-  const auto scene = shellfrac::sim::load_scene_file(scene_file);
+  const auto scene = shellfrac::scene::load_model(scene_file);
   Simulation sim(scene);
   const double dt = sim.stable_dt();
   for (int i = 0; i < 5; ++i) sim.step(dt);  // warm up: the sheet starts to sag

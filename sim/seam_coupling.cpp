@@ -7,34 +7,47 @@
 
 #include "coupling/row_projection.hpp"
 
-#include "sim/simulation.hpp"
+#include "sim/seam_system.hpp"
 
 namespace shellfrac::sim {
 
-void Simulation::correct_near_seam(size_t patch, const std::vector<int>& rows,
-                                   const std::vector<Eigen::Vector3d>& target,
+void SeamSystem::save_start_positions(const World& world) {
+  for (const scene::model::InterfaceSpec& spec : model_.interfaces) {
+    const auto f = static_cast<size_t>(spec.coupling.follower_patch), l = static_cast<size_t>(spec.coupling.leader_patch);
+    start_positions_[f] = world.shell(f).x;
+    start_positions_[l] = world.shell(l).x;
+  }
+}
+
+const coupling::Interface& SeamSystem::operators(size_t i) const {
+  return seams_[i].cut ? *seams_[i].cut : model_.interfaces[i].coupling;
+}
+
+
+void SeamSystem::correct_near_seam(World& world, const mpm::SparseGrid& grid, size_t patch,
+                                   const std::vector<int>& rows, const std::vector<Eigen::Vector3d>& target,
                                    const std::vector<unsigned char>& released, const std::vector<int>& neighbours,
                                    double dt) {
   // Momentum correction (Eq. 4.30-4.32): the coupled rows' correction velocity dv = (target - xbar)/dt
   // goes to the grid once more, mass-weighted with the weights of this step (positions x^n), and every
   // control point of the patch near the seam takes the interpolated correction for its second advection.
-  shell::ShellPatch& p = patches_[patch];
+  shell::ShellPatch& p = world.shell(patch);
   const std::vector<Eigen::Vector3d>& start = start_positions_[patch];
   // Per-node sums in a dense scratch array that is zero between uses; only touched nodes are reset
   // (a hash map here cost a third of the coupling stage).
-  if (node_scratch_.size() < grid_.num_nodes()) {
-    node_scratch_.resize(grid_.num_nodes(), Eigen::Vector3d::Zero());
-    node_touched_.resize(grid_.num_nodes(), 0);
+  if (node_scratch_.size() < grid.num_nodes()) {
+    node_scratch_.resize(grid.num_nodes(), Eigen::Vector3d::Zero());
+    node_touched_.resize(grid.num_nodes(), 0);
   }
   std::vector<uint32_t> touched;
-  const double inv_dx = 1.0 / grid_.dx();
+  const double inv_dx = 1.0 / grid.dx();
   for (size_t k = 0; k < rows.size(); ++k) {
     if (released[k]) continue;
     const auto c = static_cast<size_t>(rows[k]);
     const Eigen::Vector3d dv = (target[k] - p.x[c]) / dt;  // Eq. 4.30
-    const double m = transfer_mass_[patch][c];
+    const double m = world.transfer_mass(patch)[c];
     const mpm::StencilWeights sw = mpm::stencil_weights(start[c], inv_dx);
-    const auto nodes = grid_.stencil_nodes(start[c]);
+    const auto nodes = grid.stencil_nodes(start[c]);
     for (int s = 0; s < 27; ++s) {
       const uint32_t node = nodes[static_cast<size_t>(s)];
       if (!node_touched_[node]) {
@@ -45,13 +58,13 @@ void Simulation::correct_near_seam(size_t patch, const std::vector<int>& rows,
     }
   }
   for (uint32_t node : touched) {  // Eq. 4.31
-    const double mi = grid_.node_mass(node);
+    const double mi = grid.node_mass(node);
     node_scratch_[node] = mi > 0 ? Eigen::Vector3d(node_scratch_[node] / mi) : Eigen::Vector3d(Eigen::Vector3d::Zero());
   }
   for (int k : neighbours) {  // Eq. 4.32 and the second advection
     const auto c = static_cast<size_t>(k);
     const mpm::StencilWeights sw = mpm::stencil_weights(start[c], inv_dx);
-    const auto nodes = grid_.stencil_nodes(start[c]);
+    const auto nodes = grid.stencil_nodes(start[c]);
     Eigen::Vector3d dv = Eigen::Vector3d::Zero();
     for (int s = 0; s < 27; ++s) dv += sw.weight(s % 3, (s / 3) % 3, s / 9) * node_scratch_[nodes[static_cast<size_t>(s)]];
     p.v[c] += dv;
@@ -83,8 +96,8 @@ coupling::PointRows gather_rows(const std::vector<Eigen::Vector3d>& x, const std
 
 }  // namespace
 
-void Simulation::build_seam_projection(size_t seam) {
-  const InterfaceSpec& spec = scene_.interfaces[seam];
+void SeamSystem::build_projection(const World& world, size_t seam) {
+  const scene::model::InterfaceSpec& spec = model_.interfaces[seam];
   SeamState& st = seams_[seam];
   const bool exact = spec.coupling.exact && !st.cut;  // a cut seam falls back to its cut operators
   st.projection.reset();
@@ -98,8 +111,8 @@ void Simulation::build_seam_projection(size_t seam) {
   // projection moving them would open the other seam or break the pin.
   auto in_rows = [](const std::vector<int>& rows, int k) { return std::find(rows.begin(), rows.end(), k) != rows.end(); };
   auto other_seam_sets = [&](int k) {
-    for (size_t j = 0; j < scene_.interfaces.size(); ++j) {
-      const coupling::Interface& o = scene_.interfaces[j].coupling;
+    for (size_t j = 0; j < model_.interfaces.size(); ++j) {
+      const coupling::Interface& o = model_.interfaces[j].coupling;
       if (j == seam) continue;
       if (static_cast<size_t>(o.follower_patch) == lp && (in_rows(o.follower_row1, k) || in_rows(o.follower_row2, k)))
         return true;
@@ -110,32 +123,32 @@ void Simulation::build_seam_projection(size_t seam) {
   };
   st.leader_held.assign(lrows.size(), 0);
   for (size_t k = 0; k < lrows.size(); ++k)
-    st.leader_held[k] = transfer_mass_[lp][static_cast<size_t>(lrows[k])] == 0 || other_seam_sets(lrows[k]);
+    st.leader_held[k] = world.transfer_mass(lp)[static_cast<size_t>(lrows[k])] == 0 || other_seam_sets(lrows[k]);
   // The correction reaches the leader's points near the seam except those another seam sets.
   st.leader_neighbours.clear();
   for (int k : spec.leader_neighbours)
     if (!other_seam_sets(k)) st.leader_neighbours.push_back(k);
   Eigen::VectorXd ml(static_cast<Eigen::Index>(lrows.size())), mf(static_cast<Eigen::Index>(frows.size()));
   for (size_t k = 0; k < lrows.size(); ++k)
-    ml[static_cast<Eigen::Index>(k)] = patches_[lp].mass[static_cast<size_t>(lrows[k])] * (st.leader_held[k] ? kHeldWeight : 1.0);
+    ml[static_cast<Eigen::Index>(k)] = world.shell(lp).mass[static_cast<size_t>(lrows[k])] * (st.leader_held[k] ? kHeldWeight : 1.0);
   for (size_t k = 0; k < frows.size(); ++k)  // rows a crack released move on their own: no say
     mf[static_cast<Eigen::Index>(k)] =
-        spec.project_both_sides && !st.released[k] ? patches_[fp].mass[static_cast<size_t>(frows[k])] : 0.0;
+        spec.project_both_sides && !st.released[k] ? world.shell(fp).mass[static_cast<size_t>(frows[k])] : 0.0;
   st.projection.emplace(c, exact, ml, mf);
 }
 
-void Simulation::project_seam_rows(size_t seam, double dt) {
+void SeamSystem::project_rows(World& world, const mpm::SparseGrid& grid, size_t seam, double dt) {
   // The leader's coupled rows take the state nearest (mass norm) to what the grid gave both patches'
   // rows among those the coupling allows (coupling/row_projection.hpp): the rows' momentum is kept, and
   // for exact closure the rows stay in the shared space. Their jump from where the grid put them reaches
   // the leader's neighbouring points through the grid, like the follower's correction (Eq. 4.30-4.32).
-  const InterfaceSpec& spec = scene_.interfaces[seam];
+  const scene::model::InterfaceSpec& spec = model_.interfaces[seam];
   const SeamState& st = seams_[seam];
   const coupling::Interface& c = st.cut ? *st.cut : spec.coupling;
   const bool c1 = c.continuity == coupling::Continuity::C1;
   const auto lp = static_cast<size_t>(c.leader_patch);
-  shell::ShellPatch& leader = patches_[lp];
-  const shell::ShellPatch& follower = patches_[static_cast<size_t>(c.follower_patch)];
+  shell::ShellPatch& leader = world.shell(lp);
+  const shell::ShellPatch& follower = world.shell(static_cast<size_t>(c.follower_patch));
   const std::vector<int> lrows = stacked_rows(c.leader_row1, c.leader_row2, c1);
   const std::vector<int> frows = stacked_rows(c.follower_row1, c.follower_row2, c1);
   const coupling::PointRows x = st.projection->apply(gather_rows(leader.x, lrows), gather_rows(follower.x, frows));
@@ -148,23 +161,21 @@ void Simulation::project_seam_rows(size_t seam, double dt) {
     target_v[k] = held ? leader.v[p] : Eigen::Vector3d(v.row(static_cast<Eigen::Index>(k)).transpose());
   }
   if (spec.momentum_correction)
-    correct_near_seam(lp, lrows, target, std::vector<unsigned char>(lrows.size(), 0), st.leader_neighbours, dt);
+    correct_near_seam(world, grid, lp, lrows, target, std::vector<unsigned char>(lrows.size(), 0), st.leader_neighbours, dt);
   for (size_t k = 0; k < lrows.size(); ++k) {
     leader.x[static_cast<size_t>(lrows[k])] = target[k];
     leader.v[static_cast<size_t>(lrows[k])] = target_v[k];
   }
 }
 
-void Simulation::stage_coupling(double dt) {
-  if (scene_.interfaces.empty()) return;
-  auto scope = timer_.time("coupling");
-  for (size_t i = 0; i < scene_.interfaces.size(); ++i) {
-    const InterfaceSpec& spec = scene_.interfaces[i];
+void SeamSystem::couple(World& world, const mpm::SparseGrid& grid, double dt) {
+  for (size_t i = 0; i < model_.interfaces.size(); ++i) {
+    const scene::model::InterfaceSpec& spec = model_.interfaces[i];
     if (!spec.coupled) continue;
-    if (seams_[i].projection) project_seam_rows(i, dt);
+    if (seams_[i].projection) project_rows(world, grid, i, dt);
     const coupling::Interface& c = seams_[i].cut ? *seams_[i].cut : spec.coupling;
-    const shell::ShellPatch& leader = patches_[static_cast<size_t>(c.leader_patch)];
-    shell::ShellPatch& follower = patches_[static_cast<size_t>(c.follower_patch)];
+    const shell::ShellPatch& leader = world.shell(static_cast<size_t>(c.leader_patch));
+    shell::ShellPatch& follower = world.shell(static_cast<size_t>(c.follower_patch));
     // Targets of the coupled follower rows from the advected leader (thesis Eq. 4.29, 4.34), for
     // positions and (the operators are linear) velocities; rows a crack released move on their own.
     const std::vector<Eigen::Vector3d> target = c.follower_positions(leader.x);
@@ -180,7 +191,7 @@ void Simulation::stage_coupling(double dt) {
         if (!released[k]) follower.x[static_cast<size_t>(rows[k])] = target[k];
       continue;
     }
-    correct_near_seam(static_cast<size_t>(c.follower_patch), rows, target, released, spec.follower_neighbours, dt);
+    correct_near_seam(world, grid, static_cast<size_t>(c.follower_patch), rows, target, released, spec.follower_neighbours, dt);
     for (size_t k = 0; k < rows.size(); ++k)  // the coupled rows sit exactly on their targets
       if (!released[k]) {
         follower.x[static_cast<size_t>(rows[k])] = target[k];
@@ -190,12 +201,12 @@ void Simulation::stage_coupling(double dt) {
   // Where seams meet at a patch corner, a row-1 (C0) point of one seam can be a row-2 (C1) point of
   // another, and the later seam would open the earlier one. Closure wins: every seam's row 1 is placed
   // once more, in order, from its leader's final state.
-  for (size_t i = 0; i < scene_.interfaces.size(); ++i) {
-    const InterfaceSpec& spec = scene_.interfaces[i];
+  for (size_t i = 0; i < model_.interfaces.size(); ++i) {
+    const scene::model::InterfaceSpec& spec = model_.interfaces[i];
     if (!spec.coupled || !seams_[i].shares_points) continue;
     const coupling::Interface& c = seams_[i].cut ? *seams_[i].cut : spec.coupling;
-    const shell::ShellPatch& leader = patches_[static_cast<size_t>(c.leader_patch)];
-    shell::ShellPatch& follower = patches_[static_cast<size_t>(c.follower_patch)];
+    const shell::ShellPatch& leader = world.shell(static_cast<size_t>(c.leader_patch));
+    shell::ShellPatch& follower = world.shell(static_cast<size_t>(c.follower_patch));
     const std::vector<Eigen::Vector3d> target = c.follower_positions(leader.x);
     const std::vector<Eigen::Vector3d> target_v = c.follower_positions(leader.v);
     for (size_t k = 0; k < c.follower_row1.size(); ++k)

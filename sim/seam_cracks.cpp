@@ -7,7 +7,8 @@
 #include <limits>
 
 #include "coupling/seam_release.hpp"
-#include "sim/simulation.hpp"
+#include "sim/crack_system.hpp"
+#include "sim/seam_system.hpp"
 
 namespace shellfrac::sim {
 
@@ -21,10 +22,10 @@ struct SeamSide {
   bool flip;
 };
 
-SeamSide leader_side(const Scene& scene, const coupling::Interface& c) {
+SeamSide leader_side(const scene::Model& scene, const coupling::Interface& c) {
   return {&scene.shells[static_cast<size_t>(c.leader_patch)].surface, c.leader_side, false};
 }
-SeamSide follower_side(const Scene& scene, const coupling::Interface& c) {
+SeamSide follower_side(const scene::Model& scene, const coupling::Interface& c) {
   return {&scene.shells[static_cast<size_t>(c.follower_patch)].surface, c.follower_side, c.reversed};
 }
 
@@ -63,25 +64,25 @@ int along_cells(const nurbs::NurbsSurface& s, coupling::Side side) {
 
 }  // namespace
 
-void Simulation::init_seams() {
-  seams_.assign(scene_.interfaces.size(), SeamState{});
-  for (size_t i = 0; i < scene_.interfaces.size(); ++i) {
-    const coupling::Interface& c = scene_.interfaces[i].coupling;
+SeamSystem::SeamSystem(const scene::Model& model, const World& world) : model_(model), start_positions_(world.num_shells()) {
+  seams_.assign(model_.interfaces.size(), SeamState{});
+  for (size_t i = 0; i < model_.interfaces.size(); ++i) {
+    const coupling::Interface& c = model_.interfaces[i].coupling;
     SeamState& st = seams_[i];
-    const SeamSide lead = leader_side(scene_, c), follow = follower_side(scene_, c);
-    const shell::ShellPatch& lp = patches_[static_cast<size_t>(c.leader_patch)];
-    const shell::ShellPatch& fp = patches_[static_cast<size_t>(c.follower_patch)];
+    const SeamSide lead = leader_side(model_, c), follow = follower_side(model_, c);
+    const shell::ShellPatch& lp = world.shell(static_cast<size_t>(c.leader_patch));
+    const shell::ShellPatch& fp = world.shell(static_cast<size_t>(c.follower_patch));
     for (int k : c.leader_row1) st.leader_along.push_back(seam_of(lead, lp.control_parameter(static_cast<size_t>(k))).along);
     for (int k : c.follower_row1) st.follower_along.push_back(seam_of(follow, fp.control_parameter(static_cast<size_t>(k))).along);
     st.released.assign(c.follower_row1.size() * (c.continuity == coupling::Continuity::C1 ? 2 : 1), 0);
-    build_seam_projection(i);
+    build_projection(world, i);
   }
   // Seams whose row 1 shares a control point with another seam's coupled rows (patch corners): their
-  // row 1 is placed once more after all seams (Simulation::stage_coupling).
-  for (size_t i = 0; i < scene_.interfaces.size(); ++i)
-    for (size_t j = 0; j < scene_.interfaces.size() && !seams_[i].shares_points; ++j) {
-      const coupling::Interface& a = scene_.interfaces[i].coupling;
-      const coupling::Interface& b = scene_.interfaces[j].coupling;
+  // row 1 is placed once more after all seams (SeamSystem::couple).
+  for (size_t i = 0; i < model_.interfaces.size(); ++i)
+    for (size_t j = 0; j < model_.interfaces.size() && !seams_[i].shares_points; ++j) {
+      const coupling::Interface& a = model_.interfaces[i].coupling;
+      const coupling::Interface& b = model_.interfaces[j].coupling;
       if (i == j || a.follower_patch != b.follower_patch) continue;
       for (int k : a.follower_row1) {
         const bool in_b = std::find(b.follower_row1.begin(), b.follower_row1.end(), k) != b.follower_row1.end() ||
@@ -89,29 +90,27 @@ void Simulation::init_seams() {
         seams_[i].shares_points = seams_[i].shares_points || in_b;
       }
     }
-  update_seam_cracks();  // prescribed cuts may already reach a seam
-  count_crack_state();
 }
 
-void Simulation::update_seam_cracks() {
-  for (size_t i = 0; i < scene_.interfaces.size(); ++i) {
-    const InterfaceSpec& spec = scene_.interfaces[i];
+void SeamSystem::update_cracks(World& world, CrackSystem& cracks) {
+  for (size_t i = 0; i < model_.interfaces.size(); ++i) {
+    const scene::model::InterfaceSpec& spec = model_.interfaces[i];
     if (!spec.coupled) continue;
     const coupling::Interface& c = spec.coupling;
     const size_t patch[2] = {static_cast<size_t>(c.leader_patch), static_cast<size_t>(c.follower_patch)};
-    const SeamSide side[2] = {leader_side(scene_, c), follower_side(scene_, c)};
-    if (!cracks_[patch[0]] && !cracks_[patch[1]]) continue;
+    const SeamSide side[2] = {leader_side(model_, c), follower_side(model_, c)};
+    if (!cracks.graph(patch[0]) && !cracks.graph(patch[1])) continue;
     // A crack that reaches the seam from one side continues into the other as a short cut straight
     // across (the mirror image in the seam chart); the neighbour's own damage grows it from there.
     for (int from = 0; from < 2; ++from) {
       const int to = 1 - from;
-      if (!cracks_[patch[from]] || !cracks_[patch[to]]) continue;
+      if (!cracks.graph(patch[from]) || !cracks.graph(patch[to])) continue;
       const double cell_along = 1.0 / along_cells(*side[to].surface, side[to].side);
       const double cell_across = 1.0 / cross_cells(*side[to].surface, side[to].side);
-      for (const SeamHit& h : seam_hits(cracks_[patch[from]]->graph(), side[from])) {
+      for (const SeamHit& h : seam_hits(*cracks.graph(patch[from]), side[from])) {
         if (h.inward.y() <= 1e-3 * h.inward.norm()) continue;  // running along the seam: does not cross it
         bool continued = false;
-        for (const SeamHit& other : seam_hits(cracks_[patch[to]]->graph(), side[to]))
+        for (const SeamHit& other : seam_hits(*cracks.graph(patch[to]), side[to]))
           continued = continued || std::abs(other.along - h.along) <= cell_along;
         if (continued) continue;
         // Mirror across the seam: the along component flips, the inward component stays inward.
@@ -124,91 +123,42 @@ void Simulation::update_seam_cracks() {
         const Eigen::Vector2d end =
             start + coupling::seam_direction_to_parameter(*side[to].surface, side[to].side, side[to].flip,
                                                           end_seam - Eigen::Vector2d(h.along, 0.0));
-        const size_t first = cracks_[patch[to]]->graph().num_edges();
-        try {
-          cracks_[patch[to]]->add_prescribed_cut({start, end}, false);
-        } catch (const crack2d::CutError&) {
-          continue;  // degenerate continuation (at a corner): the neighbour's damage decides alone
-        }
-        ++crack_stats_.seam_continuations;
-        const shell::CrackUpdate u = patches_[patch[to]].update_crack(cracks_[patch[to]]->index(), first, mls_settings_);
-        if (crack_stats_.first_mls_failure.empty() && !u.first_failure.empty())
-          crack_stats_.first_mls_failure = "shell \"" + scene_.shells[patch[to]].name + "\" " + u.first_failure;
+        // A degenerate continuation (at a corner) is skipped: the neighbour's damage decides alone.
+        if (!cracks.add_cut(world, patch[to], start, end)) continue;
+        ++cracks.stats().seam_continuations;
       }
     }
     SeamState& st = seams_[i];
     st.cracks.clear();
     for (int k = 0; k < 2; ++k)
-      if (cracks_[patch[k]])
-        for (const SeamHit& h : seam_hits(cracks_[patch[k]]->graph(), side[k])) st.cracks.push_back(h.along);
+      if (cracks.graph(patch[k]))
+        for (const SeamHit& h : seam_hits(*cracks.graph(patch[k]), side[k])) st.cracks.push_back(h.along);
     if (st.cracks.empty()) continue;
     coupling::SeamCut cut = coupling::cut_interface(c, st.follower_along, st.leader_along, st.cracks);
     st.released = std::move(cut.released);
     st.cut = std::move(cut.coupling);
-    build_seam_projection(i);
+    build_projection(world, i);
   }
 }
 
-size_t Simulation::body_fragments() const {
-  // Union-find over every shell control point: neighbours on a patch's control grid are joined unless
-  // a crack separates their parameter points; across a coupled seam each follower edge point joins the
-  // leader points its (cut) operator row still uses.
-  std::vector<size_t> offset(patches_.size() + 1, 0);
-  for (size_t i = 0; i < patches_.size(); ++i) offset[i + 1] = offset[i] + patches_[i].x.size();
-  std::vector<size_t> parent(offset.back());
-  for (size_t k = 0; k < parent.size(); ++k) parent[k] = k;
-  auto find = [&](size_t a) {
-    while (parent[a] != a) a = parent[a] = parent[parent[a]];
-    return a;
-  };
-  auto join = [&](size_t a, size_t b) { parent[find(a)] = find(b); };
-  for (size_t i = 0; i < patches_.size(); ++i) {
-    const shell::ShellPatch& p = patches_[i];
-    const int nu = scene_.shells[i].surface.num_u(), nv = scene_.shells[i].surface.num_v();
-    auto link = [&](int a, int b) {
-      const auto ka = static_cast<size_t>(a), kb = static_cast<size_t>(b);
-      if (!p.crack() || !p.crack()->crosses(p.control_parameter(ka), p.control_parameter(kb)))
-        join(offset[i] + ka, offset[i] + kb);
-    };
-    for (int j = 0; j < nv; ++j)
-      for (int u = 0; u < nu; ++u) {
-        if (u + 1 < nu) link(u + nu * j, u + 1 + nu * j);
-        if (j + 1 < nv) link(u + nu * j, u + nu * (j + 1));
-      }
-  }
-  for (size_t i = 0; i < scene_.interfaces.size(); ++i) {
-    const InterfaceSpec& spec = scene_.interfaces[i];
-    if (!spec.coupled) continue;
-    const coupling::Interface& c = seams_[i].cut ? *seams_[i].cut : spec.coupling;
-    const size_t lo = offset[static_cast<size_t>(c.leader_patch)], fo = offset[static_cast<size_t>(c.follower_patch)];
-    for (size_t k = 0; k < c.follower_row1.size(); ++k)
-      for (size_t j = 0; j < c.leader_row1.size(); ++j)
-        if (c.M0(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(j)) != 0.0)
-          join(fo + static_cast<size_t>(c.follower_row1[k]), lo + static_cast<size_t>(c.leader_row1[j]));
-  }
-  size_t roots = 0;
-  for (size_t k = 0; k < parent.size(); ++k) roots += find(k) == k ? 1 : 0;
-  return roots;
-}
-
-size_t Simulation::released_seam_points(size_t i) const {
+size_t SeamSystem::released_points(size_t i) const {
   return static_cast<size_t>(std::count(seams_[i].released.begin(), seams_[i].released.end(), 1));
 }
 
-bool Simulation::seam_connected(size_t patch_a, const Eigen::Vector2d& uv_a, size_t patch_b,
-                                const Eigen::Vector2d& uv_b) const {
+bool SeamSystem::connected(const World& world, size_t patch_a, const Eigen::Vector2d& uv_a, size_t patch_b,
+                           const Eigen::Vector2d& uv_b) const {
   // The path between points of two coupled patches runs from each point straight to the seam, then
   // along it; only a crack on one of the three pieces separates them. With several seams between the
   // two patches (a closed cylinder) the nearest one decides.
   double nearest = std::numeric_limits<double>::infinity();
   bool connected = false;
-  for (size_t i = 0; i < scene_.interfaces.size(); ++i) {
-    const InterfaceSpec& spec = scene_.interfaces[i];
+  for (size_t i = 0; i < model_.interfaces.size(); ++i) {
+    const scene::model::InterfaceSpec& spec = model_.interfaces[i];
     const coupling::Interface& c = spec.coupling;
     const auto l = static_cast<size_t>(c.leader_patch), f = static_cast<size_t>(c.follower_patch);
     if (!spec.coupled || !((l == patch_a && f == patch_b) || (l == patch_b && f == patch_a))) continue;
-    const SeamSide sa = l == patch_a ? leader_side(scene_, c) : follower_side(scene_, c);
-    const SeamSide sb = l == patch_a ? follower_side(scene_, c) : leader_side(scene_, c);
+    const SeamSide sa = l == patch_a ? leader_side(model_, c) : follower_side(model_, c);
+    const SeamSide sb = l == patch_a ? follower_side(model_, c) : leader_side(model_, c);
     const coupling::SeamCoordinate ca = seam_of(sa, uv_a), cb = seam_of(sb, uv_b);
     const double distance = ca.across + cb.across;
     if (distance >= nearest) continue;
@@ -220,8 +170,8 @@ bool Simulation::seam_connected(size_t patch_a, const Eigen::Vector2d& uv_a, siz
     bool open = true;
     for (double s : seams_[i].cracks) open = open && !(s > lo && s < hi);
     connected = open &&
-                clear(patches_[patch_a], uv_a, coupling::seam_edge_parameter(*sa.surface, sa.side, sa.flip, ca.along)) &&
-                clear(patches_[patch_b], uv_b, coupling::seam_edge_parameter(*sb.surface, sb.side, sb.flip, cb.along));
+                clear(world.shell(patch_a), uv_a, coupling::seam_edge_parameter(*sa.surface, sa.side, sa.flip, ca.along)) &&
+                clear(world.shell(patch_b), uv_b, coupling::seam_edge_parameter(*sb.surface, sb.side, sb.flip, cb.along));
   }
   return connected;
 }

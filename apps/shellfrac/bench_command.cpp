@@ -1,5 +1,5 @@
 // `shellfrac bench`: speed-accuracy sweeps and the stability map (docs/benchmarks.md).
-#include "apps/shellfrac/bench_command.hpp"
+#include "apps/shellfrac/command.hpp"
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
@@ -8,10 +8,8 @@
 #include <memory>
 #include <string>
 
-#include "sim/bench_sweep.hpp"
-#include "sim/charts.hpp"
-#include "sim/scene_error.hpp"
-#include "sim/stability_map.hpp"
+#include "tools/bench_sweep.hpp"
+#include "tools/stability_map.hpp"
 
 namespace shellfrac::app {
 
@@ -35,7 +33,7 @@ void add_common_options(CLI::App* cmd, BenchOptions& o) {
 
 }  // namespace
 
-std::function<std::optional<int>()> add_bench_command(CLI::App& app) {
+Command add_bench_command(CLI::App& app) {
   auto* bench = app.add_subcommand("bench", "Speed-accuracy sweeps and the stability map (docs/benchmarks.md).");
   bench->require_subcommand(1);
   auto options = std::make_shared<BenchOptions>();
@@ -52,36 +50,27 @@ std::function<std::optional<int>()> add_bench_command(CLI::App& app) {
     if (!*bench) return std::nullopt;
     const int threads = options->threads > 0 ? options->threads : tbb::info::default_concurrency();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
-    try {
+    return run_guarded([&] {
       if (*sweep) {
-        sim::SweepConfig config;
+        tools::SweepConfig config;
         config.full = options->config == "full";
         config.out_dir = options->out_dir;
         config.charts = !options->no_charts;
-        const auto rows = sim::run_sweep(config, std::cerr);
+        const auto rows = tools::run_sweep(config, std::cerr);
         std::cout << "sweep (" << options->config << ", " << threads << " thread(s)): " << rows.size()
                   << " runs; sweep.csv, convergence.csv, stages.csv" << (config.charts ? " and charts" : "")
                   << " in " << options->out_dir << "\n";
       } else if (*stability) {
-        sim::StabilityConfig config;
+        tools::StabilityConfig config;
         config.full = options->config == "full";
         config.out_dir = options->out_dir;
         config.charts = !options->no_charts;
-        const auto results = sim::run_stability_map(config, std::cout, std::cerr);
+        const auto results = tools::run_stability_map(config, std::cout, std::cerr);
         std::cout << results.size() << " runs; stability.csv" << (config.charts ? " and stability-map.png" : "")
                   << " in " << options->out_dir << "\n";
       }
       return 0;
-    } catch (const sim::charts::ChartError& e) {
-      std::cerr << "error: " << e.what() << "\n";
-      return 1;
-    } catch (const sim::SceneError& e) {  // a benchmark scene the library rejects: a bug, but say where
-      std::cerr << "error: " << e.what() << "\n";
-      return 2;
-    } catch (const std::exception& e) {
-      std::cerr << "error: " << e.what() << "\n";
-      return 1;
-    }
+    });
   };
 }
 

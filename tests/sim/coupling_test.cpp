@@ -5,8 +5,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "sim/scene.hpp"
-#include "sim/scene_error.hpp"
+#include "scene/build.hpp"
+#include "scene/json_io.hpp"
+#include "scene/scene_error.hpp"
 #include "sim/simulation.hpp"
 
 namespace shellfrac::sim {
@@ -33,7 +34,7 @@ struct Seam {
 };
 
 Seam measure_seam(const Simulation& sim) {
-  const auto left = sim.patches()[0].current_surface(), right = sim.patches()[1].current_surface();
+  const auto left = sim.world().shell(0).current_surface(), right = sim.world().shell(1).current_surface();
   Seam s;
   for (int k = 0; k <= 100; ++k) {
     const double v = k / 100.0;
@@ -53,7 +54,7 @@ TEST(Coupling, SeamStaysClosedAndSmooth) {
   Seam worst[3];
   const std::string variants[3] = {"", c0, c1};
   for (int k = 0; k < 3; ++k) {
-    Simulation sim(parse_scene(two_patch_scene(variants[k]), "seam.json"));
+    Simulation sim(scene::build_model(two_patch_scene(variants[k]), "seam.json"));
     for (int f = 1; f <= 8; ++f) {
       sim.advance_to(0.05 * f);
       const Seam s = measure_seam(sim);
@@ -79,7 +80,7 @@ TEST(Coupling, SeamStaysClosedAndSmooth) {
 // Largest mid-surface stress of the follower's quadrature points in the two cell columns next to the
 // seam, over the median stress of the follower patch (the issue's seam stress ratio).
 double seam_stress_ratio(const Simulation& sim) {
-  const auto& p = sim.patches()[1];
+  const auto& p = sim.world().shell(1);
   std::vector<double> stress = p.mid_surface_stress();
   double seam = 0;
   for (size_t q = 0; q < stress.size(); ++q)
@@ -100,7 +101,7 @@ TEST(Coupling, MomentumCorrectionIsNeutralOnNestedKnots) {
                   R"("colliders": [])");
     for (const char* axis : {R"("axis_v": [0, 0, -1])", R"("axis_v": [0, 0, -1])"})
       scene.replace(scene.find(axis), std::string(axis).size(), R"("axis_v": [0, -1, 0])");
-    Simulation sim(parse_scene(scene, "seam.json"));
+    Simulation sim(scene::build_model(scene, "seam.json"));
     for (int f = 1; f <= 8; ++f) {
       sim.advance_to(0.05 * f);
       ratio[corrected] = std::max(ratio[corrected], seam_stress_ratio(sim));
@@ -137,10 +138,10 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> hanging_corners(int right_cells, con
          "interfaces": [{"a": {"shell": "left", "side": "u1"}, "b": {"shell": "right", "side": "u0"},
                          "continuity": ")" + continuity + R"("}]})";
   }
-  Simulation sim(parse_scene(s, "hang.json"));
+  Simulation sim(scene::build_model(s, "hang.json"));
   sim.advance_to(1.5);
-  const auto& last = sim.patches().back();
-  return {sim.patches()[0].current_surface().evaluate(0, 1).x, last.current_surface().evaluate(1, 1).x};
+  const auto& last = sim.world().shell(sim.world().num_shells() - 1);
+  return {sim.world().shell(0).current_surface().evaluate(0, 1).x, last.current_surface().evaluate(1, 1).x};
 }
 
 TEST(Coupling, TwoCoupledPatchesHangLikeOne) {
@@ -162,9 +163,9 @@ TEST(Coupling, EdgesThatDoNotMeetAreBadInput) {
                                               "b": {"shell": "right", "side": "u0"}}])");
   scene.replace(scene.find("[0.0, 0.3, 0.5]"), 15, "[0.001, 0.3, 0.5]");
   try {
-    parse_scene(scene, "seam.json");
+    scene::build_model(scene, "seam.json");
     FAIL() << "accepted edges 1 mm apart";
-  } catch (const SceneError& e) {
+  } catch (const scene::SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("/interfaces/0"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("0.001"), std::string::npos) << e.what();
   }

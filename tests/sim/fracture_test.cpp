@@ -4,7 +4,9 @@
 #include <tbb/global_control.h>
 
 #include "render_mesh/cracked_tessellation.hpp"
-#include "sim/scene.hpp"
+#include "scene/build.hpp"
+#include "scene/json_io.hpp"
+#include "output/frame_render.hpp"
 #include "sim/simulation.hpp"
 
 namespace shellfrac::sim {
@@ -30,7 +32,7 @@ std::string tear_scene(const std::string& material_extra, const std::string& sce
 }
 
 TEST(Fracture, ModeOneTearIsStraightConsistentAndKeepsItsArea) {
-  Simulation sim(parse_scene(tear_scene(""), "tear.json"));
+  Simulation sim(scene::build_model(tear_scene(""), "tear.json"));
   sim.advance_to(1.2);
   const CrackStats& st = sim.crack_stats();
   EXPECT_GE(st.extractions, 5);  // extractions run only when the fully damaged set grew
@@ -43,7 +45,7 @@ TEST(Fracture, ModeOneTearIsStraightConsistentAndKeepsItsArea) {
   }
   EXPECT_GE(u_max, 1.0 - 1e-9);          // torn right through
   EXPECT_LE(v_dev, 2.0 / 16.0);          // within two cells of the straight line
-  const auto meshes = sim.render_meshes();
+  const auto meshes = output::render_meshes(sim);
   EXPECT_EQ(render_mesh::count_components(meshes[0]), 2);
   // After tearing, the relaxed fragments keep the sheet's area (the thesis reports 0.994 m^2 for its
   // stress, 0.668 m^2 for a 2D deformation gradient). Measured here: 1.011 m^2; the excess is damaged
@@ -86,19 +88,21 @@ Halves halves(const shell::ShellPatch& p) {
   return h;
 }
 
-void set_half_velocities(shell::ShellPatch& p, double vx) {
-  for (size_t k = 0; k < p.x.size(); ++k) p.v[k] = Eigen::Vector3d(p.control_parameter(k).x() < 0.5 ? -vx : vx, 0, 0);
+void set_half_velocities(Simulation& sim, double vx) {
+  const shell::ShellPatch& p = sim.world().shell(0);
+  const auto v = sim.velocities(0), shear_v = sim.shear_velocities(0);
+  for (size_t k = 0; k < p.x.size(); ++k) v[k] = Eigen::Vector3d(p.control_parameter(k).x() < 0.5 ? -vx : vx, 0, 0);
   for (size_t c = 0; c < p.shear.x.size(); ++c)
-    p.shear.v[c] = Eigen::Vector3d(p.shear_parameter(c).x() < 0.5 ? -vx : vx, 0, 0);
+    shear_v[c] = Eigen::Vector3d(p.shear_parameter(c).x() < 0.5 ? -vx : vx, 0, 0);
 }
 
 TEST(Fracture, PhantomNodesLetFragmentsSeparateASingleFieldGluesThem) {
   double opened[2];
   for (int phantom = 0; phantom < 2; ++phantom) {
-    Simulation sim(parse_scene(cut_sheet_scene(phantom == 1), "cut.json"));
-    auto& p = sim.patches()[0];
+    Simulation sim(scene::build_model(cut_sheet_scene(phantom == 1), "cut.json"));
+    const auto& p = sim.world().shell(0);
     EXPECT_GT(p.num_mls_points(), 0u);
-    set_half_velocities(p, 0.5);
+    set_half_velocities(sim, 0.5);
     const Halves before = halves(p);
     sim.advance_to(0.1);
     const Halves after = halves(p);
@@ -111,9 +115,9 @@ TEST(Fracture, PhantomNodesLetFragmentsSeparateASingleFieldGluesThem) {
 }
 
 TEST(Fracture, FragmentsPressedTogetherDoNotInterpenetrate) {
-  Simulation sim(parse_scene(cut_sheet_scene(true), "cut.json"));
-  auto& p = sim.patches()[0];
-  set_half_velocities(p, -0.5);  // towards each other at 1 m/s: 0.05 m of overlap in 0.05 s if unchecked
+  Simulation sim(scene::build_model(cut_sheet_scene(true), "cut.json"));
+  const auto& p = sim.world().shell(0);
+  set_half_velocities(sim, -0.5);  // towards each other at 1 m/s: 0.05 m of overlap in 0.05 s if unchecked
   const Eigen::Vector3d momentum = sim.linear_momentum();
   const Halves before = halves(p);
   EXPECT_NEAR(before.right_min - before.left_max, 0.025, 1e-12);  // nearest control points across the cut
@@ -127,13 +131,13 @@ TEST(Fracture, FragmentsPressedTogetherDoNotInterpenetrate) {
 TEST(Fracture, TearingIsBitIdenticalForAnyThreadCount) {
   // Damage, crack extraction, MLS updates, the phantom partition and contact all run in parallel; the
   // result must not depend on the thread count.
-  const Scene scene = parse_scene(tear_scene(""), "tear.json");
+  const scene::Model scene = scene::build_model(tear_scene(""), "tear.json");
   auto run = [&](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
     Simulation sim(scene);
     sim.advance_to(0.45);
     EXPECT_GT(sim.crack_graph(0)->num_edges(), 10u);
-    return sim.patches()[0].x;
+    return sim.world().shell(0).x;
   };
   const auto one = run(1), two = run(2);
   bool identical = one.size() == two.size();
@@ -145,7 +149,7 @@ TEST(Fracture, ShapeCutOutOfAHangingClothFallsAway) {
   // Thesis Fig. 4.14: a shape cut out of a cloth falls away under gravity. The cloth hangs level from
   // its four edges, so the shape drops out of the plane (a vertical cloth would hold the shape on the
   // hole's lower edge: the fragments are coplanar and in-plane contact is real contact).
-  Simulation sim(parse_scene(R"({"name": "cutout", "gravity": [0, -9.81, 0],
+  Simulation sim(scene::build_model(R"({"name": "cutout", "gravity": [0, -9.81, 0],
     "shells": [{"name": "cloth", "patch": {"type": "flat", "size": [0.6, 0.6], "cells": [12, 12],
                 "origin": [0, 1, 0], "axis_u": [1, 0, 0], "axis_v": [0, 0, 1]},
       "thickness": 0.0005, "material": {"E": 1e5, "nu": 0.3, "density": 200},
@@ -153,7 +157,7 @@ TEST(Fracture, ShapeCutOutOfAHangingClothFallsAway) {
     "pins": [{"shell": "cloth", "region": {"v": [0.0, 0.02]}}, {"shell": "cloth", "region": {"v": [0.98, 1.0]}},
              {"shell": "cloth", "region": {"u": [0.0, 0.02]}}, {"shell": "cloth", "region": {"u": [0.98, 1.0]}}]})",
                              "cutout.json"));
-  auto& p = sim.patches()[0];
+  const auto& p = sim.world().shell(0);
   const std::vector<Eigen::Vector2d> shape{{0.3, 0.3}, {0.7, 0.3}, {0.7, 0.7}, {0.35, 0.6}, {0.3, 0.7}};
   auto inside = [&](const Eigen::Vector2d& q) {  // crossing-number test
     bool in = false;
@@ -178,7 +182,7 @@ TEST(Fracture, ShapeCutOutOfAHangingClothFallsAway) {
   sim.advance_to(1.0);
   const double fall = y0 - inner_centre().y();
   EXPECT_GE(fall, 0.8 * 0.5 * 9.81);  // at least 80% of free fall in 1 s
-  EXPECT_EQ(render_mesh::count_components(sim.render_meshes()[0]), 2);  // the shape and the cloth: no glue
+  EXPECT_EQ(render_mesh::count_components(output::render_meshes(sim)[0]), 2);  // the shape and the cloth: no glue
 }
 
 }  // namespace

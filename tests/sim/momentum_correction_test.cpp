@@ -17,8 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "sim/scene.hpp"
-#include "sim/seam_metrics.hpp"
+#include "scene/build.hpp"
+#include "scene/json_io.hpp"
+#include "output/seam_metrics.hpp"
 #include "sim/simulation.hpp"
 
 namespace shellfrac::sim {
@@ -61,7 +62,7 @@ struct SeamRun {
 
 // Runs `end` seconds in frames of 1/40 s and measures after every frame.
 SeamRun run(const std::string& json, double end) {
-  const Scene scene = parse_scene(json, "sheared-seam.json");
+  const scene::Model scene = scene::build_model(json, "sheared-seam.json");
   Simulation sim(scene);
   const coupling::Interface& c = scene.interfaces.at(0).coupling;
   std::vector<int> rows = c.follower_row1;
@@ -70,8 +71,8 @@ SeamRun run(const std::string& json, double end) {
   const int frames = static_cast<int>(std::lround(end * 40));
   for (int f = 1; f <= frames; ++f) {
     sim.advance_to(f / 40.0);
-    const auto& leader = sim.patches()[static_cast<size_t>(c.leader_patch)];
-    const auto& follower = sim.patches()[static_cast<size_t>(c.follower_patch)];
+    const auto& leader = sim.world().shell(static_cast<size_t>(c.leader_patch));
+    const auto& follower = sim.world().shell(static_cast<size_t>(c.follower_patch));
     // Independent of the simulation's coupling stage: the operators applied to the leader's state now.
     const std::vector<Eigen::Vector3d> target = c.follower_positions(leader.x);
     const std::vector<Eigen::Vector3d> target_v = c.follower_positions(leader.v);
@@ -80,14 +81,15 @@ SeamRun run(const std::string& json, double end) {
       r.max_row_offset = std::max(r.max_row_offset, (follower.x[p] - target[k]).norm());
       r.max_row_velocity_offset = std::max(r.max_row_velocity_offset, (follower.v[p] - target_v[k]).norm());
     }
-    r.max_ratio = std::max(r.max_ratio, measure_seams(scene, sim.patches()).at(0).stress_ratio.value_or(0.0));
+    r.max_ratio = std::max(r.max_ratio, output::measure_seams(scene, sim.world()).at(0).stress_ratio.value_or(0.0));
   }
   r.momentum = sim.linear_momentum();
-  for (const auto& p : sim.patches()) {
+  for (size_t i = 0; i < sim.world().num_shells(); ++i) {
+    const auto& p = sim.world().shell(i);
     for (double m : p.mass) r.mass += m;
     for (double m : p.shear.mass) r.mass += m;
     for (const Eigen::Vector3d& v : p.v)
-      r.max_velocity_spread = std::max(r.max_velocity_spread, (v - sim.patches()[0].v[0]).norm());
+      r.max_velocity_spread = std::max(r.max_velocity_spread, (v - sim.world().shell(0).v[0]).norm());
   }
   return r;
 }

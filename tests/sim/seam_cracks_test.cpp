@@ -10,7 +10,9 @@
 
 #include "coupling/seam_release.hpp"
 #include "render_mesh/cracked_tessellation.hpp"
-#include "sim/scene.hpp"
+#include "scene/build.hpp"
+#include "scene/json_io.hpp"
+#include "output/frame_render.hpp"
 #include "sim/simulation.hpp"
 
 namespace shellfrac::sim {
@@ -34,7 +36,7 @@ TEST(SeamCracks, ACrackReachingTheSeamContinuesMirroredIntoTheNeighbour) {
   // An oblique cut in the left patch ends on the seam at v = 0.5, coming from (u, v) = (0.5, 0.3). In the
   // unfolded sheet the straight continuation into the right patch runs along (du, dv) = (0.5, 0.2),
   // one and a half cells (0.15 in u) deep.
-  Simulation sim(parse_scene(seam_scene(R"({"points": [[0.5, 0.3], [1.0, 0.5]]})", ""), "seam.json"));
+  Simulation sim(scene::build_model(seam_scene(R"({"points": [[0.5, 0.3], [1.0, 0.5]]})", ""), "seam.json"));
   const crack2d::CrackGraph* right = sim.crack_graph(1);
   ASSERT_NE(right, nullptr);
   ASSERT_EQ(right->num_edges(), 1u);
@@ -57,12 +59,12 @@ TEST(SeamCracks, CutOperatorsKeepEachSideAndReleaseOnlyPointsWithNothingLeft) {
   // The operator of an 8 vs 10 cell seam (non-nested: dense pseudo-inverse rows) cut at s = 0.5: no
   // weight crosses the crack, and every row still maps an affine field f(s) = a + b s of the leader
   // points to the value the full row gives (so rest geometry and rigid fragment motion are kept).
-  const Scene scene = parse_scene(seam_scene("", ""), "seam.json");
+  const scene::Model scene = scene::build_model(seam_scene("", ""), "seam.json");
   const coupling::Interface& c = scene.interfaces[0].coupling;
   Simulation sim(scene);
   std::vector<double> leader_along, follower_along;
-  for (int k : c.leader_row1) leader_along.push_back(sim.patches()[0].control_parameter(static_cast<size_t>(k)).y());
-  for (int k : c.follower_row1) follower_along.push_back(sim.patches()[1].control_parameter(static_cast<size_t>(k)).y());
+  for (int k : c.leader_row1) leader_along.push_back(sim.world().shell(0).control_parameter(static_cast<size_t>(k)).y());
+  for (int k : c.follower_row1) follower_along.push_back(sim.world().shell(1).control_parameter(static_cast<size_t>(k)).y());
   const coupling::SeamCut one = coupling::cut_interface(c, follower_along, leader_along, {0.5});
   Eigen::VectorXd affine(static_cast<Eigen::Index>(leader_along.size()));
   for (size_t j = 0; j < leader_along.size(); ++j) affine[static_cast<Eigen::Index>(j)] = 0.3 - 1.7 * leader_along[j];
@@ -102,22 +104,24 @@ TEST(SeamCracks, FragmentsLeaveAcrossTheSeamWhichStaysClosedElsewhere) {
   // and a right piece, and the two pieces of each fragment stay joined along their part of the seam.
   // Nested knots (8 and 16 cells), where the coupling is exact, so that the seam closure can be held
   // to round-off.
-  Simulation sim(parse_scene(seam_scene(R"({"points": [[0.0, 0.5], [1.0, 0.5]]})", R"({"points": [[0.0, 0.5], [1.0, 0.5]]})", 16),
+  Simulation sim(scene::build_model(seam_scene(R"({"points": [[0.0, 0.5], [1.0, 0.5]]})", R"({"points": [[0.0, 0.5], [1.0, 0.5]]})", 16),
                              "seam.json"));
   EXPECT_EQ(sim.crack_stats().seam_continuations, 0u);  // the right patch's own cut already continues it
-  for (auto& p : sim.patches()) {
-    for (size_t k = 0; k < p.x.size(); ++k) p.v[k] = Eigen::Vector3d(0, p.control_parameter(k).y() > 0.5 ? 0.5 : -0.5, 0);
+  for (size_t i = 0; i < sim.world().num_shells(); ++i) {
+    const auto& p = sim.world().shell(i);
+    const auto v = sim.velocities(i), shear_v = sim.shear_velocities(i);
+    for (size_t k = 0; k < p.x.size(); ++k) v[k] = Eigen::Vector3d(0, p.control_parameter(k).y() > 0.5 ? 0.5 : -0.5, 0);
     for (size_t c = 0; c < p.shear.x.size(); ++c)
-      p.shear.v[c] = Eigen::Vector3d(0, p.shear_parameter(c).y() > 0.5 ? 0.5 : -0.5, 0);
+      shear_v[c] = Eigen::Vector3d(0, p.shear_parameter(c).y() > 0.5 ? 0.5 : -0.5, 0);
   }
   std::vector<std::vector<Eigen::Vector3d>> start;
-  for (const auto& p : sim.patches()) start.push_back(p.x);
+  for (size_t i = 0; i < sim.world().num_shells(); ++i) start.push_back(sim.world().shell(i).x);
   sim.advance_to(0.1);
   // Every control point moved with its own half: none is held back across the crack (a glued or still
   // coupled point would be dragged towards zero). The halves move 0.05 m each.
   double slowest = 1e9;
   for (size_t i = 0; i < 2; ++i) {
-    const auto& p = sim.patches()[i];
+    const auto& p = sim.world().shell(i);
     for (size_t k = 0; k < p.x.size(); ++k) {
       const double dy = p.x[k].y() - start[i][k].y();
       slowest = std::min(slowest, p.control_parameter(k).y() > 0.5 ? dy : -dy);
@@ -126,7 +130,7 @@ TEST(SeamCracks, FragmentsLeaveAcrossTheSeamWhichStaysClosedElsewhere) {
   EXPECT_GT(slowest, 0.049);  // measured 0.0500 (and 0.0500 with 8 vs 10 cells)
   // The seam is still coupled on both fragments: the two edges coincide (NURBS edge curves, sampled
   // away from the crack where the released points sit).
-  const auto left = sim.patches()[0].current_surface(), right = sim.patches()[1].current_surface();
+  const auto left = sim.world().shell(0).current_surface(), right = sim.world().shell(1).current_surface();
   double gap = 0;
   for (double v : {0.02, 0.1, 0.2, 0.8, 0.9, 0.98})
     gap = std::max(gap, (left.evaluate(1.0, v).x - right.evaluate(0.0, v).x).norm());
@@ -134,7 +138,7 @@ TEST(SeamCracks, FragmentsLeaveAcrossTheSeamWhichStaysClosedElsewhere) {
   // Two pieces of material, each half made of a left and a right piece; the render meshes count the
   // four pieces patch by patch.
   EXPECT_EQ(sim.body_fragments(), 2u);
-  const auto meshes = sim.render_meshes();
+  const auto meshes = output::render_meshes(sim);
   EXPECT_EQ(render_mesh::count_components(meshes[0]), 2);
   EXPECT_EQ(render_mesh::count_components(meshes[1]), 2);
   std::printf("slowest control point moved %.4g m with its half; seam gap away from the crack %.3g m\n", slowest, gap);
@@ -148,7 +152,7 @@ TEST(SeamCracks, TornGarmentComesApartOnlyWhereTheCrackCrossesItsSeams) {
   nlohmann::json j = nlohmann::json::parse(in);
   for (auto& shell : j["shells"])
     for (auto& cells : shell["patch"]["cells"]) cells = std::max(4, static_cast<int>(cells) * 2 / 3);
-  const Scene scene = parse_scene(j.dump(), "garment.json");
+  const scene::Model scene = scene::build_model(j.dump(), "garment.json");
   Simulation sim(scene);
   sim.advance_to(1.2);
   EXPECT_EQ(sim.crack_stats().subset_violations, 0u);
@@ -161,8 +165,8 @@ TEST(SeamCracks, TornGarmentComesApartOnlyWhereTheCrackCrossesItsSeams) {
   size_t crossed = 0;
   for (size_t i = 0; i < scene.interfaces.size(); ++i) {
     const coupling::Interface& c = scene.interfaces[i].coupling;
-    const auto& leader = sim.patches()[static_cast<size_t>(c.leader_patch)];
-    const auto& follower = sim.patches()[static_cast<size_t>(c.follower_patch)];
+    const auto& leader = sim.world().shell(static_cast<size_t>(c.leader_patch));
+    const auto& follower = sim.world().shell(static_cast<size_t>(c.follower_patch));
     const auto ls = leader.current_surface(), fs = follower.current_surface();
     const double margin = 2.0 / static_cast<double>(c.leader_row1.size() - 2);
     crossed += sim.seam_cracks(i).empty() ? 0 : 1;

@@ -1,0 +1,72 @@
+#include "output/frame_render.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+
+#include "render_mesh/cracked_tessellation.hpp"
+#include "render_mesh/surface_tessellation.hpp"
+
+namespace shellfrac::output {
+
+namespace {
+
+// Cracked patch (thesis sec. 4.9, Algorithm 5): split the R x S grid along the crack, give each side its
+// own shadow vertices, and place them with MLS near the crack and NURBS elsewhere.
+render_mesh::PolyMesh cracked_mesh(const sim::Simulation& sim, size_t i, const crack2d::CrackGraph& graph) {
+  const scene::Model& model = sim.model();
+  const shell::ShellPatch& patch = sim.world().shell(i);
+  const nurbs::NurbsSurface& ref = patch.reference();
+  const render_mesh::ParameterDomain domain{ref.knots_u().domain_begin(), ref.knots_u().domain_end(),
+                                            ref.knots_v().domain_begin(), ref.knots_v().domain_end()};
+  std::vector<render_mesh::CrackSegment2> segments;
+  for (size_t e = 0; e < graph.num_edges(); ++e) segments.push_back({graph.segment(e).a, graph.segment(e).b});
+  render_mesh::CrackedTessellationSettings settings;
+  settings.resolution_u = model.output.resolution_u;
+  settings.resolution_v = model.output.resolution_v;
+  settings.shadow_offset = model.cracks.shadow_offset;
+  const render_mesh::ParameterMesh mesh = render_mesh::separate_crack_vertices(
+      render_mesh::split_parameter_grid(domain, segments, settings), settings.shadow_offset);
+  std::vector<Eigen::Vector3d> positions(mesh.uv.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.uv.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+    shell::MlsBasis work;
+    for (size_t k = r.begin(); k != r.end(); ++k) positions[k] = patch.position_at(mesh.uv[k], work);
+  });
+  return render_mesh::assemble_render_mesh(mesh, domain, std::move(positions), {}, sim.world().shell_name(i));
+}
+
+}  // namespace
+
+std::vector<render_mesh::PolyMesh> render_meshes(const sim::Simulation& sim) {
+  const sim::World& world = sim.world();
+  const scene::Model& model = sim.model();
+  std::vector<render_mesh::PolyMesh> meshes(world.num_shells());
+  for (size_t i = 0; i < world.num_shells(); ++i) {
+    const crack2d::CrackGraph* graph = sim.crack_graph(i);
+    if (!graph || graph->empty())
+      meshes[i] = render_mesh::tessellate(world.shell(i).current_surface(), model.output.resolution_u,
+                                          model.output.resolution_v, world.shell_name(i));
+    else
+      meshes[i] = cracked_mesh(sim, i, *graph);
+  }
+  // Solids as point clouds (one point primitive per particle).
+  for (size_t k = 0; k < world.num_solids(); ++k) {
+    render_mesh::PolyMesh cloud;
+    cloud.name = world.solid_name(k);
+    cloud.positions = world.solid(k).x;
+    for (int p = 0; p < static_cast<int>(world.solid(k).size()); ++p) cloud.add_face({p});
+    meshes.push_back(std::move(cloud));
+  }
+  return meshes;
+}
+
+double collider_penetration(const sim::Simulation& sim, const std::vector<render_mesh::PolyMesh>& meshes) {
+  double depth = 0;
+  for (const auto& c : sim.colliders())
+    for (const auto& m : meshes)
+      for (const auto& x : m.positions) depth = std::max(depth, -c.signed_distance(x, sim.time()));
+  return depth;
+}
+
+}  // namespace shellfrac::output

@@ -1,0 +1,34 @@
+#pragma once
+#include <chrono>
+#include <iosfwd>
+#include <string>
+
+namespace shellfrac::output {
+
+// Reports progress of a long run on stderr: a redrawn bar with ETA when stderr is a terminal, plain
+// log lines (at most one every `log_interval` seconds, plus the last) otherwise, so CI logs stay short.
+class Progress {
+ public:
+  Progress(std::ostream& out, bool interactive, double total, std::string unit,
+           double log_interval_seconds = 5.0);
+  // done is in [0, total]; detail is appended to the line (e.g. "frame 12/48").
+  void update(double done, const std::string& detail = "");
+  void finish(const std::string& detail = "");
+
+  // True when stderr is a terminal (and TERM is not "dumb").
+  static bool stderr_is_terminal();
+
+ private:
+  void draw(double done, const std::string& detail, bool final);
+
+  std::ostream& out_;
+  bool interactive_;
+  double total_;
+  std::string unit_;
+  double log_interval_;
+  std::chrono::steady_clock::time_point start_, last_draw_;
+  bool drawn_ = false;
+};
+
+
+}  // namespace shellfrac::output

@@ -1,0 +1,192 @@
+#include "output/run.hpp"
+
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <chrono>
+#include <cmath>
+#include <ostream>
+
+#include "core/version.hpp"
+#include "output/frame_render.hpp"
+#include "output/progress.hpp"
+#include "output/seam_metrics.hpp"
+#include "render_mesh/atomic_write.hpp"
+#include "render_mesh/cracked_tessellation.hpp"
+#include "render_mesh/exporter.hpp"
+#include "sim/simulation.hpp"
+
+namespace shellfrac::output {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string frame_stem(int frame) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "frame_%05d", frame);
+  return buf;
+}
+
+// Writes the frames of a run and keeps what is measured on them.
+class FrameWriter {
+ public:
+  FrameWriter(const scene::Model& model, fs::path out_dir) : model_(model), out_dir_(std::move(out_dir)), seams_(model) {
+    std::error_code ec;
+    fs::create_directories(frames_dir(), ec);
+    if (ec) throw std::runtime_error("cannot create output directory " + frames_dir().string() + ": " + ec.message());
+  }
+
+  void write(const sim::Simulation& sim, int frame) {
+    auto scope = timer_.time("output");
+    SeamCrackPositions cracks;
+    for (size_t i = 0; i < model_.interfaces.size(); ++i) cracks.push_back(sim.seam_cracks(i));
+    seams_.record(frame, sim.time(), sim.world(), cracks);
+    const auto meshes = render_meshes(sim);
+    fragments_ = 0;
+    for (size_t i = 0; i < model_.shells.size(); ++i) fragments_ += render_mesh::count_components(meshes[i]);
+    penetration_ = std::max(penetration_, collider_penetration(sim, meshes));
+    const fs::path written = render_mesh::export_meshes(meshes, frames_dir(), frame_stem(frame), model_.output.format);
+    files_.push_back(fs::relative(written, out_dir_).string());
+  }
+
+  const std::vector<std::string>& files() const { return files_; }
+  double penetration() const { return penetration_; }
+  long fragments() const { return fragments_; }  // connected components of the shells' meshes, last frame
+  const sim::StageTimer& timer() const { return timer_; }
+  const SeamRecorder& seams() const { return seams_; }
+
+ private:
+  fs::path frames_dir() const { return out_dir_ / "frames"; }
+
+  const scene::Model& model_;
+  fs::path out_dir_;
+  SeamRecorder seams_;  // metrics.interfaces
+  sim::StageTimer timer_;
+  std::vector<std::string> files_;
+  double penetration_ = 0;
+  long fragments_ = 0;
+};
+
+CrackReport crack_report(const sim::Simulation& sim, long fragments) {
+  const sim::CrackStats& c = sim.crack_stats();
+  CrackReport r;
+  r.extractions = c.extractions;
+  r.subset_violations = c.subset_violations;
+  r.crack_segments = c.crack_edges;
+  r.mls_points = c.mls_points;
+  r.mls_failures = c.mls_failures;
+  r.max_split_nodes = c.max_split_nodes;
+  r.contact_pairs = c.contact_pairs;
+  r.max_contact_residual = c.max_contact_residual;
+  r.seam_continuations = c.seam_continuations;
+  r.body_fragments = sim.body_fragments();
+  for (size_t i = 0; i < sim.world().num_shells(); ++i) {
+    const shell::ShellPatch& p = sim.world().shell(i);
+    r.max_damage = std::max(r.max_damage, p.fractures() ? p.max_damage() : 0.0);
+  }
+  r.fragments = fragments;
+  if (!c.first_mls_failure.empty()) r.first_mls_failure = c.first_mls_failure;
+  return r;
+}
+
+// The crack graphs in parameter coordinates (for plots and checks).
+std::vector<CrackGraphReport> crack_graphs(const sim::Simulation& sim) {
+  std::vector<CrackGraphReport> graphs;
+  for (size_t i = 0; i < sim.world().num_shells(); ++i) {
+    const crack2d::CrackGraph* g = sim.crack_graph(i);
+    if (!g) continue;
+    CrackGraphReport report;
+    report.shell = sim.world().shell_name(i);
+    for (const auto& v : g->vertices()) report.vertices.push_back({v.x(), v.y()});
+    for (const auto& e : g->edges()) report.edges.push_back({e[0], e[1]});
+    graphs.push_back(std::move(report));
+  }
+  return graphs;
+}
+
+// The record of a run so far.
+Summary make_summary(const sim::Simulation& sim, const FrameWriter& frames, int threads, double peak_kinetic,
+                     const std::string& status) {
+  const scene::Model& model = sim.model();
+  Summary s;
+  s.shellfrac_version = kVersion;
+  s.scene = model.name;
+  s.scene_source = model.source;
+  s.threads = threads;
+  s.status = status;
+  s.steps = sim.steps();
+  if (sim.steps()) {
+    s.dt = sim.max_dt();
+    s.dt_min = sim.min_dt();
+  }
+  s.stable_dt_bound = model.time.cfl * sim.elastic_wave_bound();
+  s.grid_dx = sim.dx();
+  s.simulated_seconds = sim.time();
+  s.frames = frames.files();
+  s.particle_counts = {sim.num_solid_particles(), sim.num_control_points(), sim.num_shear_particles(),
+                       sim.num_quadrature_points()};
+  double step_seconds = 0;
+  for (const auto& [name, seconds] : sim.timer().seconds()) {
+    s.stage_seconds.emplace_back(name, seconds);
+    step_seconds += seconds;
+  }
+  for (const auto& stage : frames.timer().seconds()) s.stage_seconds.push_back(stage);
+  Metrics& m = s.metrics;
+  m.max_collider_penetration = frames.penetration();
+  m.max_collider_penetration_cells = frames.penetration() / sim.dx();
+  m.peak_kinetic_energy = peak_kinetic;
+  m.final_kinetic_energy = sim.kinetic_energy();
+  for (size_t i = 0; i < sim.world().num_shells(); ++i)
+    m.max_plastic_strain = std::max(m.max_plastic_strain, sim.world().shell(i).max_plastic_strain());
+  if (frames.seams().active()) m.interfaces = frames.seams().reports();
+  if (model.has_cracks()) {
+    m.cracks = crack_report(sim, frames.fragments());
+    s.crack_graphs = crack_graphs(sim);
+  }
+  if (step_seconds > 0) {
+    const double qps = static_cast<double>(sim.num_quadrature_points()) * static_cast<double>(sim.steps()) / step_seconds;
+    m.quadrature_point_steps_per_second = qps;
+    m.quadrature_point_steps_per_second_per_core = qps / threads;
+  }
+  return s;
+}
+
+}  // namespace
+
+Summary run_scene(const scene::Model& model, const RunOptions& options, std::ostream& log) {
+  const auto start = std::chrono::steady_clock::now();
+  const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+  tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+
+  sim::Simulation sim(model);  // may throw SceneError (e.g. dt above the stability bound) before any output
+  FrameWriter frames(model, options.out_dir);
+  const int last_frame = static_cast<int>(std::floor(model.time.end * model.time.frame_rate + 1e-9));
+  double peak_kinetic = 0;
+  auto finish = [&](const std::string& status, const std::string& error) {
+    Summary s = make_summary(sim, frames, threads, peak_kinetic, status);
+    if (!error.empty()) s.error = error;
+    s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    render_mesh::write_file_atomically(options.out_dir / "summary.json", to_json(s).dump(2) + "\n");
+    return s;
+  };
+
+  Progress progress(log, options.interactive, model.time.end > 0 ? model.time.end : 1.0, "s");
+  try {
+    frames.write(sim, 0);
+    for (int f = 1; f <= last_frame; ++f) {
+      sim.advance_to(f / model.time.frame_rate);
+      peak_kinetic = std::max(peak_kinetic, sim.kinetic_energy());
+      frames.write(sim, f);
+      progress.update(sim.time(), "frame " + std::to_string(f) + "/" + std::to_string(last_frame) + ", step " +
+                                      std::to_string(sim.steps()));
+    }
+  } catch (const core::NumericalError& e) {
+    finish("failed", e.what());
+    throw;
+  }
+  progress.finish(std::to_string(last_frame + 1) + " frames, " + std::to_string(sim.steps()) + " steps");
+  return finish("completed", "");
+}
+
+}  // namespace shellfrac::output

@@ -1,0 +1,91 @@
+#pragma once
+// What a run reports, as a typed record: serialised to OUT/summary.json by the run driver and read back
+// by `verify` and the Python module. docs/cli.md describes every field.
+#include <array>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace shellfrac::output {
+
+struct ParticleCounts {
+  size_t solid_particles = 0, control_points = 0, shear_particles = 0, quadrature_points = 0;
+};
+
+// One limit check of a seam over the run: the largest value, where it happened, the limit and the verdict
+// ("pass", "fail", "unchecked", "not measured").
+struct SeamCheck {
+  std::optional<double> max;
+  std::optional<int> frame;
+  std::optional<double> time;
+  std::optional<double> limit;
+  std::string result;
+};
+
+struct SeamSample {
+  int frame = 0;
+  double time = 0;
+  double gap = 0, angle_degrees = 0;
+  std::optional<double> stress_ratio;
+};
+
+// metrics.interfaces[i]: one scene interface measured at every frame.
+struct InterfaceReport {
+  std::string interface, leader, follower, continuity;
+  bool reversed = false, momentum_correction = false;
+  SeamCheck gap, angle_degrees, stress_ratio;
+  bool pass = true;
+  std::vector<SeamSample> frames;
+};
+
+// metrics.cracks: the crack machinery over the run (docs/fracture.md, "What a run reports").
+struct CrackReport {
+  long extractions = 0;
+  size_t subset_violations = 0, crack_segments = 0, mls_points = 0, mls_failures = 0, max_split_nodes = 0;
+  size_t contact_pairs = 0;
+  double max_contact_residual = 0;
+  size_t seam_continuations = 0, body_fragments = 0;
+  double max_damage = 0;
+  long fragments = 0;
+  std::optional<std::string> first_mls_failure;
+};
+
+// crack_graphs[i]: the crack of one shell in its parameter plane.
+struct CrackGraphReport {
+  std::string shell;
+  std::vector<std::array<double, 2>> vertices;
+  std::vector<std::array<int, 2>> edges;
+};
+
+struct Metrics {
+  double max_collider_penetration = 0, max_collider_penetration_cells = 0;
+  double peak_kinetic_energy = 0, final_kinetic_energy = 0, max_plastic_strain = 0;
+  std::optional<std::vector<InterfaceReport>> interfaces;
+  std::optional<CrackReport> cracks;
+  std::optional<double> quadrature_point_steps_per_second, quadrature_point_steps_per_second_per_core;
+};
+
+struct Summary {
+  std::string shellfrac_version, scene, scene_source;
+  int threads = 0;
+  std::string status;  // "completed", "failed"
+  std::optional<std::string> error;
+  long steps = 0;
+  std::optional<double> dt, dt_min;
+  double stable_dt_bound = 0, grid_dx = 0, simulated_seconds = 0;
+  std::vector<std::string> frames;  // relative to the run folder
+  ParticleCounts particle_counts;
+  std::vector<std::pair<std::string, double>> stage_seconds;  // in the order the stages first ran
+  Metrics metrics;
+  std::optional<std::vector<CrackGraphReport>> crack_graphs;
+  double wall_seconds = 0;
+};
+
+nlohmann::json to_json(const Summary& s);
+// Reads a summary.json document; throws std::runtime_error naming the missing or mistyped field.
+Summary summary_from_json(const nlohmann::json& j);
+Summary read_summary(const std::string& path);
+
+}  // namespace shellfrac::output

@@ -1,0 +1,85 @@
+#include "scene/build.hpp"
+
+#include "scene/build_context.hpp"
+#include "scene/json_io.hpp"
+#include "scene/quality.hpp"
+#include "scene/validate.hpp"
+
+namespace shellfrac::scene {
+
+namespace {
+
+std::string stem_of(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
+  const size_t dot = base.find_last_of('.');
+  return dot == std::string::npos || dot == 0 ? base : base.substr(0, dot);
+}
+
+model::TimeSettings build_time(const Time& t) {
+  model::TimeSettings out;
+  out.end = t.end.value_or(out.end);
+  out.frame_rate = t.frame_rate.value_or(out.frame_rate);
+  out.dt = t.dt;
+  out.cfl = t.cfl.value_or(out.cfl);
+  out.allow_substepping = t.allow_substepping.value_or(out.allow_substepping);
+  out.enforce_stability_bound = t.enforce_stability_bound.value_or(out.enforce_stability_bound);
+  return out;
+}
+
+model::OutputSettings build_output(const Output& o) {
+  model::OutputSettings out;
+  out.format = o.format.value_or(out.format);
+  if (o.resolution) {
+    out.resolution_u = (*o.resolution)[0];
+    out.resolution_v = (*o.resolution)[1];
+  }
+  return out;
+}
+
+model::CrackSettings build_cracks(const Cracks& c) {
+  model::CrackSettings out;
+  out.extraction_interval = c.extraction_interval.value_or(out.extraction_interval);
+  out.phantom_nodes = c.phantom_nodes.value_or(out.phantom_nodes);
+  out.contact_friction = c.contact_friction.value_or(out.contact_friction);
+  out.max_support = c.max_support.value_or(out.max_support);
+  out.shadow_offset = c.shadow_offset.value_or(out.shadow_offset);
+  return out;
+}
+
+}  // namespace
+
+Model build(const Scene& input) {
+  validate(input);
+  Scene scene = input;
+  apply_quality(scene);
+  const detail::Builder b{scene};
+
+  Model m;
+  m.source = scene.source;
+  m.name = scene.name.value_or(stem_of(scene.source));
+  m.time = build_time(scene.time);
+  m.output = build_output(scene.output);
+  for (size_t i = 0; i < scene.shells.size(); ++i) m.shells.push_back(detail::build_shell(b, scene.shells[i], i));
+  m.gravity = detail::vec3_or(scene.gravity, {0.0, -9.81, 0.0});
+  m.damping = scene.damping.value_or(0.0);
+  m.grid.dx = scene.grid.dx;
+  m.grid.apic = scene.grid.transfer == "apic";
+  m.cracks = build_cracks(scene.cracks);
+  for (size_t i = 0; i < scene.solids.size(); ++i) m.solids.push_back(detail::build_solid(b, scene.solids[i], i));
+  for (size_t i = 0; i < scene.colliders.size(); ++i)
+    m.colliders.push_back(detail::build_collider(b, scene.colliders[i], i));
+  for (size_t i = 0; i < scene.pins.size(); ++i) m.pins.push_back(detail::build_pin(b, scene.pins[i], i, m.shells));
+  for (size_t i = 0; i < scene.interfaces.size(); ++i) {
+    model::InterfaceSpec spec = detail::build_interface(b, scene.interfaces[i], i, m.shells);
+    (spec.coupled ? m.interfaces : m.uncoupled_seams).push_back(std::move(spec));
+  }
+  detail::check_exact_closures(b, m);
+  return m;
+}
+
+Model build_model(const std::string& json_text, const std::string& source) { return build(read_scene(json_text, source)); }
+
+Model load_model(const std::string& path) { return build(load_scene(path)); }
+
+}  // namespace shellfrac::scene

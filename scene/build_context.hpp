@@ -1,0 +1,43 @@
+#pragma once
+// Shared by the build of a scene's parts (build.cpp, build_shells.cpp, build_parts.cpp): the scene's
+// source for messages, conversions from the plain data, and the defaults of docs/scene-format.md.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "scene/model.hpp"
+#include "scene/scene.hpp"
+#include "scene/scene_error.hpp"
+
+namespace shellfrac::scene::detail {
+
+inline Eigen::Vector3d vec3(const Vec3& v) { return {v[0], v[1], v[2]}; }
+inline Eigen::Vector3d vec3_or(const Opt<Vec3>& v, const Vec3& fallback) { return vec3(v.value_or(fallback)); }
+inline Eigen::Vector2d vec2(const Vec2& v) { return {v[0], v[1]}; }
+inline std::vector<Eigen::Vector2d> points2(const std::vector<Vec2>& pts) {
+  std::vector<Eigen::Vector2d> out;
+  out.reserve(pts.size());
+  for (const Vec2& p : pts) out.push_back(vec2(p));
+  return out;
+}
+inline std::string index_path(const std::string& list, size_t i) { return list + "/" + std::to_string(i); }
+
+// Errors of the build, all naming the scene's source.
+struct Builder {
+  const Scene& scene;
+  [[noreturn]] void fail(const std::string& path, const std::string& message) const {
+    throw SceneError(scene.source, path, message);
+  }
+};
+
+model::Shell build_shell(const Builder& b, const Shell& s, size_t index);
+model::SolidBody build_solid(const Builder& b, const Solid& s, size_t index);
+model::ColliderSpec build_collider(const Builder& b, const Collider& c, size_t index);
+mpm::RigidMotion build_motion(const Motion& m);
+model::Pin build_pin(const Builder& b, const Pin& p, size_t index, const std::vector<model::Shell>& shells);
+model::InterfaceSpec build_interface(const Builder& b, const Interface& i, size_t index,
+                                     const std::vector<model::Shell>& shells);
+// Exact closure moves the leader's coupled rows, which a pin or another seam's follower rows may also set.
+void check_exact_closures(const Builder& b, const model::Model& m);
+
+}  // namespace shellfrac::scene::detail

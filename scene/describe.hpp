@@ -1,0 +1,339 @@
+#pragma once
+// The scene format, declared once. Each describe() lists the keys of one JSON object of a scene file with
+// their field, type, allowed range and whether they are required, plus the rules that tie fields
+// together. Three visitors walk these declarations (scene/visitors.hpp): the JSON reader (type checks,
+// ranges, unknown keys), the validator (the same checks on a scene built in C++) and the JSON writer.
+//
+// A visitor V provides, for a key and a field:
+//   number, integer, boolean, string, choice, numbers<N>, integers<N>, number_list, points2, points3,
+//   index_pairs, shell_ref, limit, object (optional or plain sub-object), objects (array of objects),
+//   and check(key, fn): fn() returns an error message for the key, or "" when the rule holds.
+// Cross-references (shell names, pins against control nets, interface edges, prescribed cuts against the
+// patch domain, mesh files) need the built geometry and are checked by scene::build().
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "scene/range.hpp"
+#include "scene/scene.hpp"
+
+namespace shellfrac::scene {
+
+enum class Need { optional, required };
+constexpr Need kRequired = Need::required;
+constexpr Need kOptional = Need::optional;
+
+inline const Range kCells = Range::closed(1, 10000);
+
+// Error message when `format` is not an export format (lists the allowed ones), or "".
+std::string export_format_problem(const std::string& format);
+
+namespace detail {
+inline double norm3(const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+inline std::string nonzero_direction(const Opt<Vec3>& v) {
+  return v && norm3(*v) < 1e-12 ? "direction must be a non-zero vector" : "";
+}
+}  // namespace detail
+
+template <class V>
+void describe_frame(V& v, Patch& p) {
+  v.numbers("origin", p.origin, Range::any());
+  v.numbers("axis_u", p.axis_u, Range::any());
+  v.numbers("axis_v", p.axis_v, Range::any());
+  v.check("axis_u", [&] { return p.axis_u && detail::norm3(*p.axis_u) < 1e-12 ? "axis must be a non-zero vector" : ""; });
+  v.check("axis_v", [&] { return p.axis_v && detail::norm3(*p.axis_v) < 1e-12 ? "axis must be a non-zero vector" : ""; });
+  v.check("axis_v", [&]() -> std::string {
+    const Vec3 u = p.axis_u.value_or(Vec3{1, 0, 0}), w = p.axis_v.value_or(Vec3{0, 1, 0});
+    const double c = (u[0] * w[0] + u[1] * w[1] + u[2] * w[2]) / (detail::norm3(u) * detail::norm3(w));
+    return std::abs(c) > 1e-9 ? "axis_v must be orthogonal to axis_u (their cosine is " + std::to_string(c) + ")" : "";
+  });
+}
+
+template <class V>
+void describe(V& v, Patch& p) {
+  v.choice("type", p.type, {"flat", "cylinder", "cone", "control_net"}, kRequired);
+  if (!p.type) return;
+  const std::string& type = *p.type;
+  if (type == "flat") {
+    v.numbers("size", p.size, Range::positive(), kRequired);
+    v.integers("cells", p.cells, kCells, kRequired);
+    describe_frame(v, p);
+  } else if (type == "cylinder" || type == "cone") {
+    if (type == "cylinder") {
+      v.number("radius", p.radius, Range::positive(), kRequired);
+    } else {
+      v.number("radius_bottom", p.radius_bottom, Range::non_negative(), kRequired);
+      v.number("radius_top", p.radius_top, Range::non_negative(), kRequired);
+      v.check("radius_top", [&] {
+        return p.radius_bottom == 0.0 && p.radius_top == 0.0 ? "a cone needs at least one radius > 0" : "";
+      });
+    }
+    v.number("height", p.height, Range::positive(), kRequired);
+    v.number("sweep_degrees", p.sweep_degrees, Range::left_open(0.0, 360.0));
+    v.integers("cells", p.cells, kCells, kRequired);
+    describe_frame(v, p);
+  } else {
+    v.integers("degree", p.degree, Range::closed(1, 10), kRequired);
+    v.number_list("knots_u", p.knots_u, 2, Range::any(), kRequired);
+    v.number_list("knots_v", p.knots_v, 2, Range::any(), kRequired);
+    v.points3("control_points", p.control_points, kRequired);
+    v.number_list("weights", p.weights, 0, Range::positive());
+    v.integers("refine", p.refine, Range::closed(1, 64));
+  }
+}
+
+template <class V>
+void describe(V& v, Plasticity& p) {
+  v.number("yield_stress", p.yield_stress, Range::positive(), kRequired);
+  v.number("hardening", p.hardening, Range::non_negative());
+}
+
+template <class V>
+void describe(V& v, FailureRegion& r) {
+  v.points2("polygon", r.polygon, 3, kRequired);
+  v.number("failure_stress", r.failure_stress, Range::positive(), kRequired);
+  v.number("fracture_energy", r.fracture_energy, Range::positive());
+}
+
+template <class V>
+void describe(V& v, Fracture& f) {
+  v.number("failure_stress", f.failure_stress, Range::positive(), kRequired);
+  v.number("fracture_energy", f.fracture_energy, Range::positive(), kRequired);
+  v.choice("damage_rule", f.damage_rule, {"healing", "monotone"});
+  v.objects("regions", f.regions, 0);
+}
+
+template <class V>
+void describe(V& v, Material& m) {
+  v.choice("model", m.model, {"neo_hookean"});
+  v.number("E", m.youngs_modulus, Range::positive(), kRequired);
+  v.number("nu", m.poisson_ratio, Range::open(-1.0, 0.5), kRequired);
+  v.number("density", m.density, Range::positive(), kRequired);
+  v.number("shear_stiffness", m.shear_stiffness, Range::non_negative());
+  v.number("compression_stiffness", m.compression_stiffness, Range::non_negative());
+  v.number("shear_friction", m.shear_friction, Range::non_negative());
+  v.object("plasticity", m.plasticity);
+  v.choice("transverse", m.transverse, {"condensed", "rigid"});
+  v.choice("stress_model", m.stress_model, {"kirchhoff_love", "plane_strain", "2d_f", "2d_f_director"});
+  v.check("stress_model", [&] {
+    return m.stress_model && *m.stress_model != "kirchhoff_love" && m.plasticity
+               ? "plasticity needs \"stress_model\": \"kirchhoff_love\" (the comparison models are elastic)"
+               : "";
+  });
+  v.object("fracture", m.fracture);
+}
+
+template <class V>
+void describe(V& v, Quadrature& q) {
+  v.integer("points", q.points, Range::closed(1, 5));
+  v.integer("layers", q.layers, Range::closed(1, 3));
+  v.check("layers", [&] { return q.layers == 2 ? "layers must be 1 (membrane only) or 3 (lower, mid, upper)" : ""; });
+}
+
+template <class V>
+void describe(V& v, Cut& c) {
+  v.boolean("closed", c.closed);
+  v.points2("points", c.points, c.closed.value_or(false) ? 3 : 2, kRequired);
+}
+
+template <class V>
+void describe(V& v, Shell& s) {
+  v.string("name", s.name);
+  v.object("patch", s.patch, kRequired);
+  v.number("thickness", s.thickness, Range::positive(), kRequired);
+  v.object("material", s.material, kRequired);
+  v.object("quadrature", s.quadrature);
+  v.numbers("initial_velocity", s.initial_velocity, Range::any());
+  v.objects("cuts", s.cuts, 0);
+}
+
+template <class V>
+void describe(V& v, SolidMaterial& m) {
+  v.choice("model", m.model, {"neo_hookean"});
+  v.number("E", m.youngs_modulus, Range::positive(), kRequired);
+  v.number("nu", m.poisson_ratio, Range::open(-1.0, 0.5), kRequired);
+  v.number("density", m.density, Range::positive(), kRequired);
+}
+
+// The keys of a "mesh" solid or collider; a collider must give its voxel size.
+template <class V>
+void describe_mesh(V& v, MeshFile& m, Need voxel_size) {
+  v.number("voxel_size", m.voxel_size, Range::positive(), voxel_size);
+  v.string("file", m.file, kRequired);
+  v.number("scale", m.scale, Range::positive());
+  v.numbers("translate", m.translate, Range::any());
+  v.number("band_voxels", m.band_voxels, Range::closed(1.0, 100.0));
+}
+
+template <class V>
+void describe(V& v, Solid& s) {
+  v.string("name", s.name);
+  v.choice("shape", s.shape, {"sphere", "box", "mesh"}, kRequired);
+  v.number("spacing", s.spacing, Range::positive(), kRequired);
+  if (s.shape == "mesh") {
+    describe_mesh(v, s.mesh, kOptional);
+  } else if (s.shape == "sphere") {
+    v.numbers("center", s.center, Range::any(), kRequired);
+    v.number("radius", s.radius, Range::positive(), kRequired);
+  } else if (s.shape == "box") {
+    v.numbers("center", s.center, Range::any(), kRequired);
+    v.numbers("half_extents", s.half_extents, Range::positive(), kRequired);
+  }
+  v.choice("sampling", s.sampling, {"jittered", "poisson_disk"});
+  v.integer("seed", s.seed, Range::closed(0, 2147483647));
+  v.object("material", s.material, kRequired);
+  v.numbers("initial_velocity", s.initial_velocity, Range::any());
+}
+
+template <class V>
+void describe(V& v, Keyframe& k) {
+  v.number("time", k.time, Range::non_negative(), kRequired);
+  v.numbers("translation", k.translation, Range::any());
+  v.numbers("rotation", k.rotation, Range::any());
+}
+
+template <class V>
+void describe(V& v, Motion& m) {
+  v.numbers("pivot", m.pivot, Range::any());
+  v.objects("keyframes", m.keyframes, 1);
+  v.numbers("linear_velocity", m.linear_velocity, Range::any());
+  v.numbers("angular_velocity", m.angular_velocity, Range::any());
+  v.check("keyframes", [&] {
+    return m.keyframes && (m.linear_velocity || m.angular_velocity)
+               ? "give either keyframes or constant velocities, not both"
+               : "";
+  });
+  if (m.keyframes)
+    for (size_t i = 1; i < m.keyframes->size(); ++i)
+      v.check("keyframes/" + std::to_string(i) + "/time", [&m, i] {
+        const auto& f = *m.keyframes;
+        return f[i].time && f[i - 1].time && !(*f[i].time > *f[i - 1].time) ? "keyframe times must increase strictly" : "";
+      });
+}
+
+template <class V>
+void describe(V& v, Collider& c) {
+  v.string("name", c.name);
+  v.choice("shape", c.shape, {"half_space", "sphere", "box", "mesh"}, kRequired);
+  if (c.shape == "mesh") {
+    describe_mesh(v, c.mesh, kRequired);
+  } else if (c.shape == "half_space") {
+    v.numbers("point", c.point, Range::any(), kRequired);
+    v.numbers("normal", c.normal, Range::any(), kRequired);
+    v.check("normal", [&] { return detail::nonzero_direction(c.normal); });
+  } else if (c.shape == "sphere") {
+    v.numbers("center", c.center, Range::any(), kRequired);
+    v.number("radius", c.radius, Range::positive(), kRequired);
+  } else if (c.shape == "box") {
+    v.numbers("center", c.center, Range::any(), kRequired);
+    v.numbers("half_extents", c.half_extents, Range::positive(), kRequired);
+  }
+  v.choice("boundary", c.boundary, {"sticky", "slip", "friction"});
+  v.number("friction", c.friction, Range::non_negative());
+  v.object("motion", c.motion);
+}
+
+template <class V>
+void describe(V& v, PinRegion& r) {
+  v.numbers("u", r.u, Range::closed(0, 1));
+  v.numbers("v", r.v, Range::closed(0, 1));
+}
+
+template <class V>
+void describe(V& v, Pin& p) {
+  v.shell_ref("shell", p.shell, kRequired);
+  v.object("region", p.region);
+  v.index_pairs("control_points", p.control_points, 1);
+  v.object("motion", p.motion);
+  v.check("", [&] {
+    return p.region.has_value() == p.control_points.has_value()
+               ? "a pin needs exactly one of \"region\" or \"control_points\""
+               : "";
+  });
+  v.check("region", [&] { return p.region && p.region->u && (*p.region->u)[0] > (*p.region->u)[1] ? "u range is reversed" : ""; });
+  v.check("region", [&] { return p.region && p.region->v && (*p.region->v)[0] > (*p.region->v)[1] ? "v range is reversed" : ""; });
+}
+
+template <class V>
+void describe(V& v, Edge& e) {
+  v.shell_ref("shell", e.shell, kRequired);
+  v.choice("side", e.side, {"u0", "u1", "v0", "v1"}, kRequired);
+}
+
+template <class V>
+void describe(V& v, InterfaceVerify& s) {
+  v.limit("max_gap", s.max_gap, Range::non_negative());
+  v.limit("max_angle_degrees", s.max_angle_degrees, Range::closed(0.0, 180.0));
+  v.limit("max_stress_ratio", s.max_stress_ratio, Range::positive());
+}
+
+template <class V>
+void describe(V& v, Interface& i) {
+  v.object("a", i.a, kRequired);
+  v.object("b", i.b, kRequired);
+  v.choice("continuity", i.continuity, {"C0", "C1", "none"});
+  v.number("tolerance", i.tolerance, Range::positive());
+  v.boolean("reversed", i.reversed);
+  v.boolean("momentum_correction", i.momentum_correction);
+  v.choice("closure", i.closure, {"least_squares", "exact"});
+  v.check("closure", [&] {
+    return i.closure == "exact" && i.continuity == "none" ? "a seam with \"continuity\": \"none\" is never closed" : "";
+  });
+  v.choice("seam_velocity", i.seam_velocity, {"leader", "projected"});
+  v.object("verify", i.verify);
+}
+
+template <class V>
+void describe(V& v, Time& t) {
+  v.number("end", t.end, Range::non_negative());
+  v.number("frame_rate", t.frame_rate, Range::positive());
+  v.number("dt", t.dt, Range::positive());
+  v.number("cfl", t.cfl, Range::left_open(0.0, 1.0));
+  v.boolean("allow_substepping", t.allow_substepping);
+  v.boolean("enforce_stability_bound", t.enforce_stability_bound);
+  v.check("enforce_stability_bound", [&] {
+    return t.enforce_stability_bound == false && !t.dt ? "turning the stability bound off needs an explicit \"dt\"" : "";
+  });
+}
+
+template <class V>
+void describe(V& v, Output& o) {
+  v.string("format", o.format);
+  v.check("format", [&] { return o.format ? export_format_problem(*o.format) : std::string(); });
+  v.integers("resolution", o.resolution, Range::closed(1, 4096));
+}
+
+template <class V>
+void describe(V& v, Grid& g) {
+  v.number("dx", g.dx, Range::positive());
+  v.choice("transfer", g.transfer, {"pic", "apic"});
+}
+
+template <class V>
+void describe(V& v, Cracks& c) {
+  v.integer("extraction_interval", c.extraction_interval, Range::closed(1, 1000000));
+  v.boolean("phantom_nodes", c.phantom_nodes);
+  v.number("contact_friction", c.contact_friction, Range::non_negative());
+  v.number("max_support", c.max_support, Range::closed(1.5, 10.0));
+  v.number("shadow_offset", c.shadow_offset, Range::open(0.0, 0.01));
+}
+
+template <class V>
+void describe(V& v, Scene& s) {
+  v.quality("quality", s.quality);
+  v.string("name", s.name);
+  v.object("time", s.time);
+  v.object("output", s.output);
+  v.objects("shells", s.shells, 0);
+  v.numbers("gravity", s.gravity, Range::any());
+  v.number("damping", s.damping, Range::non_negative());
+  v.object("grid", s.grid);
+  v.object("cracks", s.cracks);
+  v.objects("solids", s.solids, 0);
+  v.check("shells", [&] { return s.shells.empty() && s.solids.empty() ? "a scene needs at least one shell or solid" : ""; });
+  v.objects("colliders", s.colliders, 0);
+  v.objects("pins", s.pins, 0);
+  v.objects("interfaces", s.interfaces, 0);
+}
+
+}  // namespace shellfrac::scene

@@ -1,0 +1,203 @@
+#pragma once
+// The solver inputs of a scene: what scene::build() derives from a validated Scene (scene/scene.hpp). Patches
+// are NURBS surfaces, pins are control-point lists, interfaces carry their coupling operators, colliders
+// and solids their shapes, and every default is filled in. The simulation (sim/) reads only this.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "coupling/interface.hpp"
+#include "mpm/colliders.hpp"
+#include "nurbs/nurbs_surface.hpp"
+#include "shell/damage.hpp"
+#include "shell/in_plane_stress.hpp"
+#include "shell/plasticity.hpp"
+#include "shell/quadrature.hpp"
+#include "shell/stress_model.hpp"
+
+namespace shellfrac::scene::model {
+
+// A polygon in a patch's parameter plane whose points get their own failure stress (thesis Fig. 4.23b).
+struct FailureRegion {
+  std::vector<Eigen::Vector2d> polygon;
+  double failure_stress = 0;
+  std::optional<double> fracture_energy;  // unset: keep the material's brittleness H
+};
+
+// Rankine damage of a shell material (thesis Eq. 2.28-2.31, sec. 4.4.1); enabled by a "fracture" object.
+struct FractureSpec {
+  bool enabled = false;
+  double failure_stress = 0;   // sigma_f [Pa]
+  double fracture_energy = 0;  // G_f [J/m^2]
+  shell::DamageRule rule = shell::DamageRule::Healing;
+  std::vector<FailureRegion> regions;  // later regions win where they overlap
+};
+
+// Elastic material of a shell (SI units). Lamé parameters follow thesis Eq. 2.4.
+struct Material {
+  std::string model = "neo_hookean";
+  double youngs_modulus = 0;  // E [Pa]
+  double poisson_ratio = 0;   // nu, in (-1, 0.5)
+  double density = 0;         // rho [kg/m^3]
+  // Type-III shearing/compression model (shell/shear_model.hpp); unset stiffnesses default to mu and E.
+  std::optional<double> shear_stiffness, compression_stiffness;
+  double shear_friction = 0.0;
+  // Von Mises plasticity of the in-plane stress (metal sheets); enabled by a "plasticity" object.
+  shell::PlasticityParams plasticity;
+  // Thickness treatment of the Kirchhoff-Love in-plane stress (see shell/in_plane_stress.hpp).
+  shell::TransverseModel transverse = shell::TransverseModel::Condensed;
+  // The Type IV stress: the thesis's Kirchhoff-Love in-plane stress, or a comparison model.
+  shell::StressModel stress_model = shell::StressModel::KirchhoffLove;
+  FractureSpec fracture;
+
+  double mu() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
+  double lambda() const {
+    return youngs_modulus * poisson_ratio / ((1.0 + poisson_ratio) * (1.0 - 2.0 * poisson_ratio));
+  }
+};
+
+// A prescribed cut in a patch's parameter plane: an open polyline or a closed curve (thesis Fig. 4.14,
+// 4.21). Validated against the patch domain when the scene is read.
+struct Cut {
+  std::vector<Eigen::Vector2d> points;
+  bool closed = false;
+};
+
+// One shell: a NURBS patch (its reference configuration), a thickness and a material.
+struct Shell {
+  std::string name;
+  std::string shape;  // "flat", "cylinder", "cone" or "control_net"
+  nurbs::NurbsSurface surface;
+  double thickness = 0;  // tau [m]
+  Material material;
+  shell::QuadratureRule quadrature;
+  Eigen::Vector3d initial_velocity = Eigen::Vector3d::Zero();
+  std::vector<Cut> cuts;
+};
+
+// A volumetric solid (Type-I particles) sampled inside an analytic shape.
+struct SolidBody {
+  std::string name;
+  std::string shape;  // "sphere" or "box"
+  std::shared_ptr<const mpm::Shape> geometry;
+  Eigen::Vector3d lo, hi;  // bounding box to sample
+  double spacing = 0;      // particle spacing [m]
+  bool poisson_disk = false;
+  unsigned seed = 1;
+  Material material;
+  Eigen::Vector3d initial_velocity = Eigen::Vector3d::Zero();
+};
+
+// Background grid and transfer scheme.
+struct GridSettings {
+  std::optional<double> dx;  // node spacing [m]; unset: the smallest shell cell size
+  bool apic = false;         // PIC (the thesis's choice) or APIC
+};
+
+struct ColliderSpec {
+  std::string name;
+  std::string shape;  // "half_space", "sphere", "box"
+  mpm::Collider collider;
+};
+
+// Dirichlet constraint: the listed control points follow `motion` from their initial positions.
+struct Pin {
+  size_t shell = 0;
+  std::vector<int> control_points;
+  mpm::RigidMotion motion;
+  std::string json_path;  // where the pin was defined, for messages
+};
+
+// One pass/fail limit of `shellfrac verify coupling`: no value takes the default (sim/seam_metrics.hpp),
+// checked = false (JSON null) turns the check off.
+struct VerifyLimit {
+  std::optional<double> value;
+  bool checked = true;
+};
+
+// The interface's "verify" object: limits on the measured seam (sim/seam_metrics.hpp).
+struct InterfaceVerify {
+  VerifyLimit max_gap;            // [m]
+  VerifyLimit max_angle_degrees;  // between the two patches' normals along the seam
+  VerifyLimit max_stress_ratio;   // seam stress over the patch median
+};
+
+// Two patch edges coupled C0 or C1 (thesis sec. 4.8); the coupling operators are built when the scene is
+// read, so a bad interface (edges that do not meet, mismatched degrees) is bad input.
+struct InterfaceSpec {
+  coupling::Interface coupling;
+  std::string json_path;
+  // False for "continuity": "none": the seam is only measured (Scene::uncoupled_seams), never coupled.
+  bool coupled = true;
+  InterfaceVerify verify;
+  // Momentum-correction velocity of thesis Eq. 4.30-4.32 (on by default); off only for comparisons.
+  bool momentum_correction = true;
+  // Follower control points near the seam that receive the corrected velocity from the grid (Eq. 4.32):
+  // the rows within the quadratic stencil's reach (three rows) of the coupled ones.
+  std::vector<int> follower_neighbours;
+  // "seam_velocity": "leader" (default) is the thesis's update (sec. 4.8.1): the leader's rows move as the
+  // grid moved them and the follower rows' grid velocities are dropped. "projected": the coupled rows of
+  // both patches decide the seam's motion (mass-weighted projection onto the coupling constraint,
+  // coupling/row_projection.hpp), which removes the leader/follower asymmetry (docs/coupling.md).
+  bool project_both_sides = false;
+  // Leader points near the seam that take the projection's correction from the grid (as Eq. 4.32).
+  std::vector<int> leader_neighbours;
+};
+
+// Crack machinery shared by all fracturing shells (thesis sec. 4.4.2, 4.6, 4.7).
+struct CrackSettings {
+  int extraction_interval = 10;    // steps between consistent crack extractions
+  bool phantom_nodes = true;       // false: a single velocity field (for comparison; fragments glue)
+  double contact_friction = 0.3;   // Coulomb coefficient between fragments (Eq. 4.25)
+  double max_support = 4.5;        // MLS support cap in cells (sec. 4.6)
+  double shadow_offset = 1e-5;     // render-mesh shadow vertex offset Dv (sec. 4.9.3)
+};
+
+struct TimeSettings {
+  double end = 1.0;                // simulated seconds
+  double frame_rate = 24.0;        // frames written per simulated second
+  std::optional<double> dt;        // fixed step [s]; unset means "from the stability bound"
+  double cfl = 0.5;                // safety factor on the stability bound, in (0, 1]
+  bool allow_substepping = false;  // split frames into more steps when dt exceeds the bound
+  // For stability studies only: accept a dt above the bound and run it as given (the run may then fail
+  // with a numerical error, exit code 3). Off by default.
+  bool enforce_stability_bound = true;
+};
+
+struct OutputSettings {
+  std::string format = "obj";  // an assimp export format id
+  int resolution_u = 32;       // render quads per patch along u (independent of the simulation)
+  int resolution_v = 32;       // ... and along v
+};
+
+struct Model {
+  std::string name;
+  std::string source;  // file path, or "<built-in default>"
+  TimeSettings time;
+  OutputSettings output;
+  Eigen::Vector3d gravity{0.0, -9.81, 0.0};
+  double damping = 0.0;  // velocity damping rate [1/s] applied on the grid (for quasi-static runs)
+  GridSettings grid;
+  std::vector<Shell> shells;
+  std::vector<SolidBody> solids;
+  std::vector<ColliderSpec> colliders;
+  std::vector<Pin> pins;
+  CrackSettings cracks;
+  std::vector<InterfaceSpec> interfaces;
+  // Interfaces declared with "continuity": "none": the edges are checked and measured like the coupled
+  // ones (seam metrics, `verify coupling`) but the simulation leaves them free.
+  std::vector<InterfaceSpec> uncoupled_seams;
+  // True when any shell can crack (fracture material or prescribed cuts).
+  bool has_cracks() const {
+    for (const Shell& s : shells)
+      if (s.material.fracture.enabled || !s.cuts.empty()) return true;
+    return false;
+  }
+};
+
+}  // namespace shellfrac::scene::model
+
+namespace shellfrac::scene {
+using Model = model::Model;
+}  // namespace shellfrac::scene

@@ -1,0 +1,224 @@
+#pragma once
+// A scene as plain data: what the user wrote, nothing derived. Every key of the scene format
+// (docs/scene-format.md) is a field here; optional fields are unset when the user left them out, so a
+// scene read from JSON writes back to the same document (scene/json_io.hpp). Scenes can be built in C++
+// directly: set the fields, then scene::build() (scene/build.hpp) validates them exactly as the JSON reader
+// does (errors carry the JSON pointer of the offending field) and derives the solver inputs.
+#include <array>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace shellfrac::scene {
+
+template <class T>
+using Opt = std::optional<T>;
+using Vec2 = std::array<double, 2>;
+using Vec3 = std::array<double, 3>;
+using Int2 = std::array<int, 2>;
+
+// The NURBS patch of a shell: a built-in shape ("flat", "cylinder", "cone") or an explicit "control_net".
+// Which fields apply depends on `type`.
+struct Patch {
+  Opt<std::string> type;
+  Opt<Vec3> origin, axis_u, axis_v;             // placement of the built-in shapes
+  Opt<Vec2> size;                               // flat
+  Opt<Int2> cells;                              // flat, cylinder, cone
+  Opt<double> radius;                           // cylinder
+  Opt<double> radius_bottom, radius_top;        // cone
+  Opt<double> height, sweep_degrees;            // cylinder, cone
+  Opt<Int2> degree;                             // control_net
+  Opt<std::vector<double>> knots_u, knots_v;    // control_net
+  Opt<std::vector<Vec3>> control_points;        // control_net, u running fastest
+  Opt<std::vector<double>> weights;             // control_net
+  Opt<Int2> refine;                             // control_net
+
+  static Patch flat(Vec2 size, Int2 cells) {
+    Patch p;
+    p.type = "flat";
+    p.size = size;
+    p.cells = cells;
+    return p;
+  }
+};
+
+struct Plasticity {
+  Opt<double> yield_stress, hardening;
+};
+
+// A parameter-plane polygon with its own failure stress (thesis Fig. 4.23b).
+struct FailureRegion {
+  Opt<std::vector<Vec2>> polygon;
+  Opt<double> failure_stress, fracture_energy;
+};
+
+// Rankine damage with explicit cracks (thesis sec. 4.4.1).
+struct Fracture {
+  Opt<double> failure_stress, fracture_energy;
+  Opt<std::string> damage_rule;  // "healing" or "monotone"
+  std::vector<FailureRegion> regions;
+};
+
+struct Material {
+  Opt<std::string> model;
+  Opt<double> youngs_modulus, poisson_ratio, density;  // keys E, nu, density
+  Opt<std::string> transverse, stress_model;
+  Opt<double> shear_stiffness, compression_stiffness, shear_friction;
+  Opt<Plasticity> plasticity;
+  Opt<Fracture> fracture;
+};
+
+struct Quadrature {
+  Opt<int> points, layers;
+};
+
+// A prescribed cut: a polyline (or closed curve) in the patch's parameter plane.
+struct Cut {
+  Opt<std::vector<Vec2>> points;
+  Opt<bool> closed;
+};
+
+struct Shell {
+  Opt<std::string> name;
+  Opt<Patch> patch;
+  Opt<double> thickness;
+  Opt<Material> material;
+  Quadrature quadrature;
+  Opt<Vec3> initial_velocity;
+  std::vector<Cut> cuts;
+};
+
+struct SolidMaterial {
+  Opt<std::string> model;
+  Opt<double> youngs_modulus, poisson_ratio, density;
+};
+
+// A mesh file placed in the scene (solids and colliders of shape "mesh").
+struct MeshFile {
+  Opt<std::string> file;  // relative paths are relative to the scene file
+  Opt<double> scale;
+  Opt<Vec3> translate;
+  Opt<double> voxel_size, band_voxels;
+};
+
+struct Solid {
+  Opt<std::string> name;
+  Opt<std::string> shape;  // "sphere", "box", "mesh"
+  Opt<Vec3> center;
+  Opt<double> radius;
+  Opt<Vec3> half_extents;
+  MeshFile mesh;
+  Opt<double> spacing;
+  Opt<std::string> sampling;  // "jittered", "poisson_disk"
+  Opt<int> seed;
+  Opt<SolidMaterial> material;
+  Opt<Vec3> initial_velocity;
+};
+
+struct Keyframe {
+  Opt<double> time;
+  Opt<Vec3> translation, rotation;
+};
+
+// Rigid motion of a collider or pinned control points: constant velocities or keyframes.
+struct Motion {
+  Opt<Vec3> pivot;
+  Opt<Vec3> linear_velocity, angular_velocity;
+  Opt<std::vector<Keyframe>> keyframes;
+};
+
+struct Collider {
+  Opt<std::string> name;
+  Opt<std::string> shape;  // "half_space", "sphere", "box", "mesh"
+  MeshFile mesh;
+  Opt<Vec3> point, normal;  // half_space
+  Opt<Vec3> center;         // sphere, box
+  Opt<double> radius;       // sphere
+  Opt<Vec3> half_extents;   // box
+  Opt<std::string> boundary;  // "sticky", "slip", "friction"
+  Opt<double> friction;
+  Opt<Motion> motion;
+};
+
+// A shell named by its name or by its index in `shells`.
+using ShellRef = std::variant<std::string, int>;
+
+struct PinRegion {
+  Opt<Vec2> u, v;  // ranges in [0, 1] of the normalised Greville abscissae
+};
+
+struct Pin {
+  Opt<ShellRef> shell;
+  Opt<PinRegion> region;
+  Opt<std::vector<Int2>> control_points;  // [i, j] pairs
+  Opt<Motion> motion;
+};
+
+struct Edge {
+  Opt<ShellRef> shell;
+  Opt<std::string> side;  // "u0", "u1", "v0", "v1"
+};
+
+// A limit of `verify coupling`: absent takes the default, present without value (JSON null) is off.
+struct VerifyLimit {
+  std::optional<double> value;
+};
+
+struct InterfaceVerify {
+  Opt<VerifyLimit> max_gap, max_angle_degrees, max_stress_ratio;
+};
+
+struct Interface {
+  Opt<Edge> a, b;
+  Opt<bool> reversed;
+  Opt<std::string> continuity;  // "C0", "C1", "none"
+  Opt<double> tolerance;
+  Opt<std::string> closure;        // "least_squares", "exact"
+  Opt<std::string> seam_velocity;  // "leader", "projected"
+  Opt<bool> momentum_correction;
+  Opt<InterfaceVerify> verify;
+};
+
+struct Time {
+  Opt<double> end, frame_rate, dt, cfl;
+  Opt<bool> allow_substepping, enforce_stability_bound;
+};
+
+struct Output {
+  Opt<std::string> format;
+  Opt<Int2> resolution;
+};
+
+struct Grid {
+  Opt<double> dx;
+  Opt<std::string> transfer;  // "pic", "apic"
+};
+
+struct Cracks {
+  Opt<int> extraction_interval;
+  Opt<bool> phantom_nodes;
+  Opt<double> contact_friction, max_support, shadow_offset;
+};
+
+struct Scene {
+  Opt<std::string> name;
+  Opt<std::string> quality;  // "draft", "default", "high"
+  Time time;
+  Output output;
+  std::vector<Shell> shells;
+  std::vector<Solid> solids;
+  Opt<Vec3> gravity;
+  Opt<double> damping;
+  Grid grid;
+  std::vector<Collider> colliders;
+  std::vector<Pin> pins;
+  Cracks cracks;
+  std::vector<Interface> interfaces;
+
+  // Where the scene came from (a file path, "<built-in default>", "<python>"): errors name it, and relative
+  // mesh paths are resolved against its folder. Not part of the document.
+  std::string source = "<scene>";
+};
+
+}  // namespace shellfrac::scene

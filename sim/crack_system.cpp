@@ -1,0 +1,232 @@
+// Set-up of damage and prescribed cuts, consistent crack extraction (thesis sec. 4.4.2) with MLS basis
+// updates (sec. 4.6), and the phantom-node partition (sec. 4.7.1).
+#include "sim/crack_system.hpp"
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <unordered_map>
+
+#include "scene/scene_error.hpp"
+#include "sim/seam_system.hpp"
+
+namespace shellfrac::sim {
+
+namespace {
+
+// Crossing-number point-in-polygon test in the parameter plane.
+bool inside_polygon(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& poly) {
+  bool inside = false;
+  for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const Eigen::Vector2d &a = poly[i], &b = poly[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < a.x() + (p.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y()))
+      inside = !inside;
+  }
+  return inside;
+}
+
+}  // namespace
+
+struct CrackSystem::VisibilityCache {
+  using Map = std::unordered_map<uint64_t, bool>;
+  tbb::enumerable_thread_specific<Map> per_thread;
+  size_t segments = 0;  // crack segments when the cache was filled
+};
+
+CrackSystem::CrackSystem(const scene::Model& model, World& world, double grid_dx) {
+  mls_settings_.max_factor = model.cracks.max_support;
+  phantom_nodes_ = model.cracks.phantom_nodes;
+  cracks_.resize(world.num_shells());
+  damaged_count_.assign(world.num_shells(), 0);
+  coupled_patch_.assign(world.num_shells(), 0);
+  for (const scene::model::InterfaceSpec& spec : model.interfaces)
+    if (spec.coupled)
+      coupled_patch_[static_cast<size_t>(spec.coupling.leader_patch)] =
+          coupled_patch_[static_cast<size_t>(spec.coupling.follower_patch)] = 1;
+  // Characteristic length of the damage law: l_ch = sqrt(3 h^2) with h the grid spacing (sec. 2.3.1).
+  const double l_ch = std::sqrt(3.0) * grid_dx;
+  for (size_t i = 0; i < world.num_shells(); ++i) {
+    const scene::model::Shell& s = model.shells[i];
+    shell::ShellPatch& patch = world.shell(i);
+    const scene::model::FractureSpec& f = s.material.fracture;
+    const std::string path = "/shells/" + std::to_string(i);
+    if (f.enabled) {
+      // H follows from sigma_f, G_f, E and l_ch (thesis sec. 2.3.1).
+      auto brittleness_or_fail = [&](double sigma_f, double g_f, const std::string& json_path) {
+        const double h = shell::brittleness(sigma_f, g_f, s.material.youngs_modulus, l_ch);
+        if (h > 0) return h;
+        const double minimum = sigma_f * sigma_f * l_ch / (2.0 * s.material.youngs_modulus);
+        std::ostringstream os;
+        os << "fracture energy " << g_f << " J/m^2 is too small for the failure stress " << sigma_f
+           << " Pa and this grid: linear softening needs G_f > sigma_f^2 l_ch / (2 E) = " << minimum
+           << " J/m^2 (l_ch = sqrt(3) dx = " << l_ch << " m); raise fracture_energy or refine the grid";
+        throw scene::SceneError(model.source, json_path, os.str());
+      };
+      const double material_h = brittleness_or_fail(f.failure_stress, f.fracture_energy, path + "/material/fracture/fracture_energy");
+      patch.set_brittleness(material_h);
+      // Regions in the parameter plane override sigma_f; later regions win (thesis Fig. 4.23b). A region
+      // keeps the material's softening shape (its H) unless it gives its own fracture energy.
+      for (size_t k = 0; k < f.regions.size(); ++k) {
+        const scene::model::FailureRegion& r = f.regions[k];
+        const double h = r.fracture_energy
+                             ? brittleness_or_fail(r.failure_stress, *r.fracture_energy,
+                                                   path + "/material/fracture/regions/" + std::to_string(k) + "/fracture_energy")
+                             : material_h;
+        for (size_t q = 0; q < patch.num_inplane_points(); ++q)
+          if (inside_polygon(patch.parameter(q), r.polygon)) patch.set_failure_stress(q, r.failure_stress, h);
+      }
+    }
+    if (!f.enabled && s.cuts.empty()) continue;
+    const auto& ku = s.surface.knots_u();
+    const auto& kv = s.surface.knots_v();
+    const crack2d::Box domain{{ku.domain_begin(), kv.domain_begin()}, {ku.domain_end(), kv.domain_end()}};
+    cracks_[i] = std::make_unique<crack2d::ConsistentCrackExtractor>(domain, patch.parameter_spacing());
+    for (size_t c = 0; c < s.cuts.size(); ++c) {
+      try {
+        cracks_[i]->add_prescribed_cut(s.cuts[c].points, s.cuts[c].closed);
+      } catch (const crack2d::CutError& e) {
+        throw scene::SceneError(model.source, path + "/cuts/" + std::to_string(c) + "/points", e.what());
+      }
+    }
+    if (cracks_[i]->graph().num_edges() > 0) {
+      const shell::CrackUpdate u = patch.update_crack(cracks_[i]->index(), 0, mls_settings_);
+      record_failure(world, i, u.first_failure);
+    }
+  }
+  count_state(world);
+}
+
+CrackSystem::~CrackSystem() = default;
+
+bool CrackSystem::any() const {
+  for (const auto& c : cracks_)
+    if (c) return true;
+  return false;
+}
+
+void CrackSystem::record_failure(const World& world, size_t shell, const std::string& failure) {
+  if (stats_.first_mls_failure.empty() && !failure.empty())
+    stats_.first_mls_failure = "shell \"" + world.shell_name(shell) + "\" " + failure;
+}
+
+bool CrackSystem::extract(World& world) {
+  const size_t edges_before = stats_.crack_edges;
+  stats_.crack_edges = stats_.mls_points = stats_.mls_failures = 0;
+  for (size_t i = 0; i < world.num_shells(); ++i) {
+    if (!cracks_[i]) continue;
+    shell::ShellPatch& patch = world.shell(i);
+    // The fully damaged set only grows (c_his is a running maximum): an unchanged count means an
+    // unchanged set, and the extraction would add nothing.
+    const std::vector<unsigned char> damaged =
+        patch.fractures() ? patch.fully_damaged_points() : std::vector<unsigned char>{};
+    const size_t count = static_cast<size_t>(std::count(damaged.begin(), damaged.end(), 1));
+    if (patch.fractures() && count != damaged_count_[i]) {
+      damaged_count_[i] = count;
+      const size_t first = cracks_[i]->graph().num_edges();
+      const crack2d::ExtractionStats st = cracks_[i]->extract(patch.inplane_parameters(), damaged);
+      ++stats_.extractions;
+      stats_.subset_violations += st.subset_violations;
+      // Only points whose support the new segments touch are rebuilt (thesis sec. 4.6).
+      if (cracks_[i]->graph().num_edges() > first) {
+        const shell::CrackUpdate u = patch.update_crack(cracks_[i]->index(), first, mls_settings_);
+        record_failure(world, i, u.first_failure);
+      }
+    }
+    stats_.crack_edges += cracks_[i]->graph().num_edges();
+    stats_.mls_points += patch.num_mls_points();
+    stats_.mls_failures += patch.num_mls_failures();
+  }
+  return stats_.crack_edges != edges_before;
+}
+
+bool CrackSystem::add_cut(World& world, size_t shell, const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
+  crack2d::ConsistentCrackExtractor& cracks = *cracks_[shell];
+  const size_t first = cracks.graph().num_edges();
+  try {
+    cracks.add_prescribed_cut({from, to}, false);
+  } catch (const crack2d::CutError&) {
+    return false;
+  }
+  const shell::CrackUpdate u = world.shell(shell).update_crack(cracks.index(), first, mls_settings_);
+  record_failure(world, shell, u.first_failure);
+  return true;
+}
+
+void CrackSystem::count_state(const World& world) {
+  stats_.crack_edges = stats_.mls_points = stats_.mls_failures = 0;
+  for (size_t i = 0; i < world.num_shells(); ++i)
+    if (cracks_[i]) {
+      stats_.crack_edges += cracks_[i]->graph().num_edges();
+      stats_.mls_points += world.shell(i).num_mls_points();
+      stats_.mls_failures += world.shell(i).num_mls_failures();
+    }
+}
+
+void CrackSystem::partition(const World& world, mpm::SparseGrid& grid, const SeamSystem& seams) {
+  phantoms_ = mpm::PhantomLayout{};
+  if (!phantom_nodes_) return;
+  bool any_mls = false;
+  for (size_t i = 0; i < world.num_shells(); ++i) any_mls = any_mls || world.shell(i).num_mls_points() > 0;
+  if (!any_mls) return;
+  const std::vector<mpm::ParticleSet>& sets = world.particle_sets();
+  std::vector<mpm::PartitionRole> roles(sets.size());
+  for (size_t s = 0; s < sets.size(); ++s) {
+    const SetRef& r = world.set(s);
+    if (r.kind == SetKind::ControlPoints)
+      roles[s] = {mpm::FieldKind::Shell, world.shell(r.body).control_near_crack().data()};
+    else if (r.kind == SetKind::ShearParticles)
+      roles[s] = {mpm::FieldKind::Shell, world.shell(r.body).shear_near_crack().data()};
+    else
+      roles[s] = {mpm::FieldKind::Solid, nullptr};
+  }
+  auto parameter = [&](uint32_t set, uint32_t particle) {
+    const SetRef& r = world.set(set);
+    const shell::ShellPatch& p = world.shell(r.body);
+    return r.kind == SetKind::ControlPoints ? p.control_parameter(particle) : p.shear_parameter(particle);
+  };
+  auto is_shell = [&](uint32_t set) { return world.set(set).kind != SetKind::SolidParticles; };
+  size_t segments = 0;
+  for (const auto& c : cracks_) segments += c ? c->graph().num_edges() : 0;
+  // Cache keys pack (set, particle) of shell particles into 32 bits: shell sets < 2^8, particles < 2^24.
+  size_t shell_sets = 0;
+  bool cacheable = true;
+  for (size_t s = 0; s < sets.size(); ++s)
+    if (is_shell(static_cast<uint32_t>(s))) {
+      shell_sets = s + 1;
+      cacheable = cacheable && sets[s].count < (size_t{1} << 24);
+    }
+  cacheable = cacheable && shell_sets < (size_t{1} << 8);
+  if (!visibility_ || segments != visibility_->segments) {
+    visibility_ = std::make_unique<VisibilityCache>();
+    visibility_->segments = segments;
+  }
+  // Two particles are on the same fragment side locally when they belong to the same body and, on a
+  // shell, the parameter-space segment between them crosses no crack. Coupled patches are one body:
+  // there the path runs through the seam (SeamSystem::connected).
+  auto visible = [&](uint32_t sa, uint32_t a, uint32_t sb, uint32_t b) {
+    const size_t pa = world.set(sa).body, pb = world.set(sb).body;
+    if (pa != pb) return seams.connected(world, pa, parameter(sa, a), pb, parameter(sb, b));
+    const crack2d::CrackIndex* index = world.shell(pa).crack();
+    return !index || !index->crosses(parameter(sa, a), parameter(sb, b));
+  };
+  const mpm::Connectivity connected = [&](uint32_t sa, uint32_t a, uint32_t sb, uint32_t b) {
+    if (!is_shell(sa) || !is_shell(sb)) return sa == sb;
+    const size_t pa = world.set(sa).body, pb = world.set(sb).body;
+    if (pa != pb && !(coupled_patch_[pa] && coupled_patch_[pb])) return false;
+    if (pa == pb && !world.shell(pa).crack()) return true;
+    if (!cacheable) return visible(sa, a, sb, b);
+    uint64_t ka = (uint64_t{sa} << 24) | a, kb = (uint64_t{sb} << 24) | b;
+    if (ka > kb) std::swap(ka, kb);
+    VisibilityCache::Map& cache = visibility_->per_thread.local();
+    const auto [it, inserted] = cache.try_emplace((ka << 32) | kb, false);
+    if (inserted) it->second = visible(sa, a, sb, b);
+    return it->second;
+  };
+  phantoms_ = mpm::partition_nodes(grid, sets, roles, connected);
+  grid.set_phantom_copies(phantoms_);
+  stats_.max_split_nodes = std::max(stats_.max_split_nodes, phantoms_.split_nodes);
+}
+
+}  // namespace shellfrac::sim

@@ -1,0 +1,85 @@
+#pragma once
+// The crack side of a running scene (thesis sec. 4.4-4.7): per shell the consistent crack graph
+// (prescribed cuts and cracks extracted from the damage history), the MLS settings of the bases near it,
+// and per step the phantom-node partition of the grid with its visibility cache.
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "crack2d/consistent_extraction.hpp"
+#include "mpm/phantom_nodes.hpp"
+#include "mpm/sparse_grid.hpp"
+#include "scene/model.hpp"
+#include "shell/mls_basis.hpp"
+#include "sim/world.hpp"
+
+namespace shellfrac::sim {
+
+class SeamSystem;
+
+// Counters of the crack machinery over a run (summary.json metrics.cracks).
+struct CrackStats {
+  long extractions = 0;            // consistent crack extractions run (all patches)
+  size_t subset_violations = 0;    // extractions whose graph did not contain the previous one (must be 0)
+  size_t crack_edges = 0;          // segments in all crack graphs now
+  size_t mls_points = 0;           // in-plane points with MLS bases now
+  size_t mls_failures = 0;         // points whose MLS support stayed singular (dropped)
+  std::string first_mls_failure;
+  size_t max_split_nodes = 0;      // largest number of grid nodes with phantom copies in one step
+  size_t contact_pairs = 0;        // pairwise fragment contacts resolved (Eq. 4.23-4.26), all steps
+  double max_contact_residual = 0; // largest approaching velocity left after contact
+  size_t seam_continuations = 0;   // cracks continued across a coupled seam into the neighbour patch
+};
+
+class CrackSystem {
+ public:
+  // Failure stresses and brittleness of the fracturing shells (regions included), the crack graphs of
+  // the shells that can crack, with their prescribed cuts and the MLS bases those cuts require.
+  // `grid_dx` sets the characteristic length of the damage law. Throws SceneError for a fracture energy
+  // below what the grid allows.
+  CrackSystem(const scene::Model& model, World& world, double grid_dx);
+  ~CrackSystem();
+  CrackSystem(const CrackSystem&) = delete;
+  CrackSystem& operator=(const CrackSystem&) = delete;
+
+  bool any() const;  // some shell can crack
+  // Crack graph of shell i, or null when the shell cannot crack.
+  const crack2d::CrackGraph* graph(size_t shell) const { return cracks_[shell] ? &cracks_[shell]->graph() : nullptr; }
+
+  // Extends every fracturing shell's crack graph from its damage history (thesis sec. 4.4.2) and
+  // rebuilds the bases the new segments touch (sec. 4.6). Returns true when any graph gained edges.
+  bool extract(World& world);
+  // Adds a straight cut to shell i (a crack continued across a seam) and rebuilds the bases it touches.
+  // Returns false when the cut is degenerate (nothing is added).
+  bool add_cut(World& world, size_t shell, const Eigen::Vector2d& from, const Eigen::Vector2d& to);
+
+  // Splits the grid nodes near cracks into one copy per fragment side (thesis sec. 4.7.1): particles of one
+  // shell share a copy when the parameter segment between them crosses no crack; coupled patches are one
+  // body through their seams (`seams`); a solid is one body.
+  void partition(const World& world, mpm::SparseGrid& grid, const SeamSystem& seams);
+  const mpm::PhantomLayout& phantoms() const { return phantoms_; }
+  bool has_phantoms() const { return !phantoms_.copy_parent.empty(); }
+
+  CrackStats& stats() { return stats_; }
+  const CrackStats& stats() const { return stats_; }
+  // Recounts crack_edges, mls_points and mls_failures from the current state.
+  void count_state(const World& world);
+
+ private:
+  void record_failure(const World& world, size_t shell, const std::string& failure);
+
+  std::vector<std::unique_ptr<crack2d::ConsistentCrackExtractor>> cracks_;  // per shell, null if it cannot crack
+  shell::MlsSettings mls_settings_;
+  bool phantom_nodes_ = true;  // false: one velocity field (comparison runs)
+  std::vector<size_t> damaged_count_;  // per shell: fully damaged points at the last extraction
+  std::vector<unsigned char> coupled_patch_;  // per shell: on a coupled seam (one body with its neighbours)
+  mpm::PhantomLayout phantoms_;
+  // Visibility between particle pairs depends only on their parameter coordinates and the crack, so it
+  // is cached across steps (per thread) and dropped when any crack grows.
+  struct VisibilityCache;
+  std::unique_ptr<VisibilityCache> visibility_;
+  CrackStats stats_;
+};
+
+}  // namespace shellfrac::sim

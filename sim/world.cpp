@@ -1,0 +1,154 @@
+#include "sim/world.hpp"
+
+#include "scene/scene_error.hpp"
+
+namespace shellfrac::sim {
+
+namespace {
+
+shell::ShellMaterial shell_material(const scene::model::Shell& s) {
+  shell::ShellMaterial m;
+  m.mu = s.material.mu();
+  m.lambda = s.material.lambda();
+  m.density = s.material.density;
+  m.thickness = s.thickness;
+  m.transverse = s.material.transverse;
+  m.stress_model = s.material.stress_model;
+  m.shear.gamma = s.material.shear_stiffness.value_or(s.material.mu());
+  m.shear.k = s.material.compression_stiffness.value_or(s.material.youngs_modulus);
+  m.shear.friction = s.material.shear_friction;
+  m.plasticity = s.material.plasticity;
+  m.fracture.enabled = s.material.fracture.enabled;
+  m.fracture.failure_stress = s.material.fracture.failure_stress;
+  m.fracture.fracture_energy = s.material.fracture.fracture_energy;
+  m.fracture.rule = s.material.fracture.rule;
+  return m;
+}
+
+}  // namespace
+
+World::World(const scene::Model& model) {
+  patches_.reserve(model.shells.size());
+  for (size_t i = 0; i < model.shells.size(); ++i) {
+    const scene::model::Shell& s = model.shells[i];
+    try {
+      patches_.emplace_back(s.surface, shell_material(s), s.quadrature);
+    } catch (const std::invalid_argument& e) {  // e.g. a degenerate (collapsed) control net
+      throw scene::SceneError(model.source, "/shells/" + std::to_string(i) + "/patch", e.what());
+    }
+    // Every mass-carrying particle of the shell starts with it: control points and Type III particles.
+    for (auto& v : patches_.back().v) v = s.initial_velocity;
+    for (auto& v : patches_.back().shear.v) v = s.initial_velocity;
+    initial_positions_.push_back(patches_.back().x);
+    transfer_mass_.push_back(patches_.back().mass);
+    affine_.emplace_back(model.grid.apic ? patches_.back().x.size() : 0, Eigen::Matrix3d::Zero());
+    shell_names_.push_back(s.name);
+  }
+  solids_.reserve(model.solids.size());
+  for (const scene::model::SolidBody& b : model.solids) {
+    mpm::SolidParticles solid;
+    const scene::model::Material& m = b.material;
+    solid.material = {m.mu(), m.lambda(), m.density};
+    solid.add(b.poisson_disk ? mpm::sample_poisson_disk(*b.geometry, b.lo, b.hi, b.spacing, b.seed)
+                             : mpm::sample_jittered(*b.geometry, b.lo, b.hi, b.spacing, b.seed),
+              b.spacing, b.initial_velocity);
+    if (solid.size() == 0)
+      throw scene::SceneError(model.source, "/solids", "solid \"" + b.name + "\" received no particles");
+    solids_.push_back(std::move(solid));
+    solid_names_.push_back(b.name);
+  }
+  // Pinned control points are driven kinematically: they take no part in the grid transfers (their
+  // elastic force is the support reaction, not a load on their free neighbours), and act on the rest of
+  // the shell through the elastic forces alone.
+  for (const scene::model::Pin& pin : model.pins)
+    for (int k : pin.control_points) transfer_mass_[pin.shell][static_cast<size_t>(k)] = 0.0;
+
+  // Per patch: the control points (Type II: mass, momentum, generalized force) and the shear
+  // particles (Type III: grid stress term, and the velocity gradient that advects their director).
+  for (size_t i = 0; i < patches_.size(); ++i) {
+    shell::ShellPatch& p = patches_[i];
+    mpm::ParticleSet control;
+    control.count = p.x.size();
+    control.position = p.x.data();
+    control.velocity = p.v.data();
+    control.mass = transfer_mass_[i].data();
+    control.force = p.force.data();
+    control.affine = affine_[i].empty() ? nullptr : affine_[i].data();
+    control_set_.push_back(sets_.size());
+    layout_.push_back({SetKind::ControlPoints, i});
+    sets_.push_back(control);
+    mpm::ParticleSet shear;
+    shear.count = p.shear.x.size();
+    shear.position = p.shear.x.data();
+    shear.velocity = p.shear.v.data();
+    shear.mass = p.shear.mass.data();
+    shear.stress = p.shear.stress.data();
+    shear.velocity_gradient = p.shear.velocity_gradient.data();
+    shear_set_.push_back(sets_.size());
+    layout_.push_back({SetKind::ShearParticles, i});
+    sets_.push_back(shear);
+  }
+  for (size_t k = 0; k < solids_.size(); ++k) {
+    layout_.push_back({SetKind::SolidParticles, k});
+    sets_.push_back(solids_[k].view());
+  }
+}
+
+std::string World::describe_particle(size_t s, size_t k) const {
+  const SetRef& r = layout_[s];
+  switch (r.kind) {
+    case SetKind::ControlPoints: return "control point " + std::to_string(k) + " of shell \"" + shell_names_[r.body] + "\"";
+    case SetKind::ShearParticles: return "shear particle " + std::to_string(k) + " of shell \"" + shell_names_[r.body] + "\"";
+    case SetKind::SolidParticles: return "particle " + std::to_string(k) + " of solid \"" + solid_names_[r.body] + "\"";
+  }
+  return "particle " + std::to_string(k);
+}
+
+size_t World::num_control_points() const {
+  size_t n = 0;
+  for (const auto& p : patches_) n += p.num_control_points();
+  return n;
+}
+
+size_t World::num_shear_particles() const {
+  size_t n = 0;
+  for (const auto& p : patches_) n += p.shear.x.size();
+  return n;
+}
+
+size_t World::num_solid_particles() const {
+  size_t n = 0;
+  for (const auto& s : solids_) n += s.size();
+  return n;
+}
+
+size_t World::num_quadrature_points() const {
+  size_t n = 0;
+  for (const auto& p : patches_) n += p.num_quadrature_points();
+  return n;
+}
+
+double World::kinetic_energy() const {
+  double e = 0;
+  for (const auto& p : patches_) {
+    for (size_t k = 0; k < p.v.size(); ++k) e += 0.5 * p.mass[k] * p.v[k].squaredNorm();
+    for (size_t k = 0; k < p.shear.v.size(); ++k) e += 0.5 * p.shear.mass[k] * p.shear.v[k].squaredNorm();
+  }
+  for (const auto& s : solids_)
+    for (size_t k = 0; k < s.size(); ++k) e += 0.5 * s.mass[k] * s.v[k].squaredNorm();
+  return e;
+}
+
+Eigen::Vector3d World::linear_momentum() const {
+  Eigen::Vector3d m = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < patches_.size(); ++i) {
+    const auto& p = patches_[i];
+    for (size_t k = 0; k < p.v.size(); ++k) m += transfer_mass_[i][k] * p.v[k];
+    for (size_t k = 0; k < p.shear.v.size(); ++k) m += p.shear.mass[k] * p.shear.v[k];
+  }
+  for (const auto& s : solids_)
+    for (size_t k = 0; k < s.size(); ++k) m += s.mass[k] * s.v[k];
+  return m;
+}
+
+}  // namespace shellfrac::sim

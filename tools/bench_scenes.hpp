@@ -1,0 +1,27 @@
+#pragma once
+// Scenes of the speed-accuracy sweeps and the stability map, built in code as scene::Scene values so that
+// their discretisation can be varied; they go through scene::build() like any scene file.
+#include "scene/scene.hpp"
+#include "tools/bench_sweep.hpp"
+
+namespace shellfrac::tools::bench_scenes {
+
+// The hanging strip of the membrane benchmark.
+constexpr double kStripLength = 0.5, kStripE = 1e5, kStripDensity = 200;
+
+// Sets every shell's quadrature, time.cfl and grid.transfer from d.
+void apply(scene::Scene& scene, const Discretisation& d);
+// A 0.25 x 0.5 m strip (nu = 0) hanging from its top edge under gravity, damped to rest; cells
+// [max(1, N/2), N].
+scene::Scene hanging_strip(const Discretisation& d);
+// The 0.5 x 0.1 m cantilever plate of tests/sim/dynamics_test.cpp, N x max(1, N/5) cells, clamped by its
+// first two control-point columns.
+scene::Scene cantilever(const Discretisation& d);
+// The mode-I tear of tests/sim/fracture_test.cpp at N x N cells: a notched 1 m^2 sheet pulled apart
+// over 0.6 s, then relaxed. fracture_energy is raised where the grid needs it (coarse tiny runs).
+scene::Scene mode_one_tear(const Discretisation& d);
+// A 1 x 1 m cloth dropped on a ball, either as one 2N x 2N patch or as two C1-coupled patches that meet
+// at x = 0 (N/2 x N cells left, N x 2N right, nested knots).
+scene::Scene drape(const Discretisation& d, bool two_patches);
+
+}  // namespace shellfrac::tools::bench_scenes
