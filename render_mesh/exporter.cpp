@@ -25,13 +25,14 @@ bool one_of(const std::string& id, std::initializer_list<const char*> ids) {
 }
 
 // Properties of the formats, from assimp 5.2's exporter table (the post-processing each exporter
-// enforces) and from reading the files back in tessellation_export_test.cpp.
+// enforces) and from reading the files back in export_topology_test.cpp.
 ExportFormat describe(const std::string& id, const std::string& extension, const std::string& description) {
   ExportFormat f{id, extension, description};
   f.own_writer = one_of(id, {"obj", "objnomtl", "ply", "plyb", "gltf2", "glb2"});
-  // gltf/glb (glTF 1) and 3ds enforce JoinIdenticalVertices; stl has no shared vertices at all; fbx
-  // writes each distinct position once. Those never keep the vertices. assimp's ply exporter regroups
-// meshes by primitive type (PreTransformVertices), hence shellfrac's own PLY writer.
+  // gltf/glb (glTF 1) and 3ds enforce JoinIdenticalVertices and stl has no shared vertices at all:
+  // those never keep the vertices. assimp's ply exporter regroups meshes by primitive type
+  // (PreTransformVertices), hence shellfrac's own PLY writer. The other assimp formats are flagged only
+  // where a test reads them back.
   f.keeps_vertices = f.own_writer || one_of(id, {"assbin", "x3d"});
   f.needs_triangles = one_of(id, {"gltf2", "glb2", "gltf", "glb", "stl", "stlb", "3ds", "x3d", "3mf"});
   f.double_precision = one_of(id, {"obj", "objnomtl", "ply", "plyb"});
@@ -123,9 +124,9 @@ fs::path export_meshes(const std::vector<PolyMesh>& meshes, const fs::path& dire
   // Triangulate first where asked or needed (the glTF writer does it itself).
   std::vector<PolyMesh> triangulated;
   const bool triangulate_here = (options.triangulate || format.needs_triangles) && format.id != "gltf2" && format.id != "glb2";
-  // Triangle-only formats written by assimp get no points or lines either: assimp's STL exporter, for
-  // one, wrote each particle as a facet of one vertex, which no reader accepts.
-  const bool drop_points = format.needs_triangles && !format.own_writer;
+  // STL holds triangles only, and assimp's STL exporter wrote each particle as a facet of one vertex,
+  // which no reader accepts: points and lines are left out there.
+  const bool drop_points = format.id == "stl" || format.id == "stlb";
   if (triangulate_here) {
     triangulated.reserve(meshes.size());
     for (const PolyMesh& m : meshes) {

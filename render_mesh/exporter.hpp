@@ -12,8 +12,8 @@ struct ExportFormat {
   std::string extension;    // file extension without the dot
   std::string description;
   bool own_writer = false;        // written by shellfrac (obj, objnomtl, ply, plyb, gltf2, glb2); else assimp
-  // The format takes triangles only: frames are always triangulated, and (assimp formats) points and
-  // lines are left out, so solids' particle clouds do not appear in stl, 3ds, x3d, 3mf or glTF 1.
+  // The format takes triangles only: frames are always triangulated (points and lines are kept, except
+  // in stl, which cannot hold them: solids' particle clouds do not appear there).
   bool needs_triangles = false;
   // The file holds every PolyMesh vertex exactly once, in PolyMesh order (meshes one after the other),
   // so the vertex count and order stay fixed while the crack graph is unchanged (point caches, motion

@@ -189,6 +189,16 @@ TEST(ExportTopology, VertexCountAndOrderAreTheSameInEveryFormatAndFrame) {
       EXPECT_EQ(positions.size(), total) << format;
       EXPECT_LE(largest_difference(positions, expected), 1e-6) << format;  // single precision
     }
+    // assimp formats flagged keeps_vertices: read back in order (x3d triangulated).
+    for (const char* format : {"assbin", "x3d"}) {
+      ASSERT_TRUE(export_format(format).keeps_vertices);
+      Assimp::Importer importer;
+      const aiScene* s = importer.ReadFile(export_meshes(*meshes, d, stem + format, format).string(), 0);
+      ASSERT_NE(s, nullptr) << importer.GetErrorString();
+      const auto positions = imported_positions(s);
+      EXPECT_EQ(positions.size(), total) << format;
+      EXPECT_LE(largest_difference(positions, expected), 1e-6) << format;
+    }
     // glTF 2 (our writer), text and binary, read back by assimp: one mesh per PolyMesh, every vertex.
     for (const char* format : {"gltf2", "glb2"}) {
       Assimp::Importer importer;
@@ -211,13 +221,13 @@ TEST(ExportTopology, VertexCountAndOrderAreTheSameInEveryFormatAndFrame) {
       EXPECT_LE(uv_error, 1e-6) << format;
     }
   }
-  // Nothing but complete frames is left: obj + mtl, 2 ply, gltf + bin, glb per frame.
+  // Nothing but complete frames is left: obj + mtl, 2 ply, assbin, x3d, gltf + bin, glb per frame.
   int files = 0;
   for (const auto& e : fs::directory_iterator(d)) {
     EXPECT_EQ(e.path().filename().string().rfind(".staging", 0), std::string::npos);
     ++files;
   }
-  EXPECT_EQ(files, 2 * 7);
+  EXPECT_EQ(files, 2 * 9);
   fs::remove_all(d);
 }
 
