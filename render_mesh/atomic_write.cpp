@@ -77,7 +77,16 @@ void write_file_durably(const fs::path& path, const std::string& content, const 
   }
 }
 
-void sync_directory(const fs::path& dir) { fsync_path(dir, O_RDONLY | O_DIRECTORY); }
+void sync_directory(const fs::path& dir) {
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) fail(dir, os_reason());
+  // EINVAL: the file system cannot sync a directory (some network and FUSE mounts); the renamed files
+  // themselves were synced, so this is not a write failure.
+  std::string why;
+  if (::fsync(fd) != 0 && errno != EINVAL) why = os_reason();
+  if (::close(fd) != 0 && why.empty()) why = os_reason();
+  if (!why.empty()) fail(dir, why);
+}
 
 void write_file_atomically(const fs::path& path, const std::string& content) {
   const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
