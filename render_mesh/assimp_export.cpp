@@ -12,6 +12,7 @@
 #include <limits>
 #include <memory>
 #include <sstream>
+#include <vector>
 #include <stdexcept>
 
 #include "render_mesh/atomic_write.hpp"
@@ -160,6 +161,7 @@ class CheckedIoSystem : public Assimp::IOSystem {
  public:
   CheckedIoSystem(IoFailure* failure, fs::path final_dir) : failure_(failure), final_dir_(std::move(final_dir)) {}
   bool Exists(const char* file) const override { return fs::exists(file); }
+  const std::vector<std::string>& written() const { return written_; }
   char getOsSeparator() const override { return '/'; }
   Assimp::IOStream* Open(const char* file, const char* mode) override {
     const std::string m = mode ? mode : "rb";
@@ -175,6 +177,7 @@ class CheckedIoSystem : public Assimp::IOSystem {
         content = ss.str();
       }
     }
+    if (writing) written_.push_back(fs::path(file).filename().string());
     return new CheckedStream(file, final_dir_ / fs::path(file).filename(), writing, std::move(content), failure_);
   }
   void Close(Assimp::IOStream* stream) override { delete stream; }
@@ -182,6 +185,7 @@ class CheckedIoSystem : public Assimp::IOSystem {
  private:
   IoFailure* failure_;
   fs::path final_dir_;
+  std::vector<std::string> written_;
 };
 
 }  // namespace
@@ -192,13 +196,22 @@ void export_with_assimp(const std::vector<PolyMesh>& meshes, const std::string& 
   IoFailure failure;
   aiReturn status;
   std::string assimp_error;
+  std::vector<std::string> written;
   {
     Assimp::Exporter exporter;
-    exporter.SetIOHandler(new CheckedIoSystem(&failure, final_dir));  // the exporter owns and deletes it
+    auto* io = new CheckedIoSystem(&failure, final_dir);
+    exporter.SetIOHandler(io);  // the exporter owns and deletes it
     status = exporter.Export(scene.get(), format_id.c_str(), staged_file.c_str());
     if (status != aiReturn_SUCCESS) assimp_error = exporter.GetErrorString();
+    written = io->written();
   }
   if (!failure.reason.empty()) throw std::runtime_error(failure.reason);
+  // A file that did not pass through the checked I/O (an exporter writing on its own) cannot be vouched
+  // for: refuse it rather than commit something possibly truncated.
+  for (const auto& entry : fs::directory_iterator(staged_file.parent_path()))
+    if (std::find(written.begin(), written.end(), entry.path().filename().string()) == written.end())
+      throw std::runtime_error("cannot export " + (final_dir / entry.path().filename()).string() + " as " + format_id +
+                               ": the exporter wrote it past shellfrac's checked I/O");
   if (status != aiReturn_SUCCESS)
     throw std::runtime_error("cannot export " + (final_dir / staged_file.filename()).string() + " as " +
                              format_id + ": " + assimp_error);

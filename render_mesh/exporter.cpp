@@ -34,7 +34,7 @@ ExportFormat describe(const std::string& id, const std::string& extension, const
   // (PreTransformVertices), hence shellfrac's own PLY writer. The other assimp formats are flagged only
   // where a test reads them back.
   f.keeps_vertices = f.own_writer || one_of(id, {"assbin", "x3d"});
-  f.needs_triangles = one_of(id, {"gltf2", "glb2", "gltf", "glb", "stl", "stlb", "3ds", "x3d", "3mf"});
+  f.needs_triangles = one_of(id, {"gltf2", "glb2", "gltf", "glb", "stl", "stlb", "3ds", "x3d"});
   f.double_precision = one_of(id, {"obj", "objnomtl", "ply", "plyb"});
   if (id == "obj") f.description = "Wavefront OBJ format (shellfrac writer)";
   if (id == "objnomtl") f.description = "Wavefront OBJ format without material file (shellfrac writer)";
@@ -87,7 +87,10 @@ const std::vector<ExportFormat>& export_formats() {
     Assimp::Exporter exporter;
     for (size_t i = 0; i < exporter.GetExportFormatCount(); ++i) {
       const aiExportFormatDesc* d = exporter.GetExportFormatDescription(i);
-      if (std::string(d->id) == "pbrt") continue;  // segfaults in assimp 5.2.5 (measured on a single triangle)
+      // pbrt segfaults in assimp 5.2.5 (measured on a single triangle); 3mf writes through its own zip
+      // library, past the checked I/O: under a 4 KiB file-size limit it left a truncated 613-byte
+      // archive and reported success.
+      if (std::string(d->id) == "pbrt" || std::string(d->id) == "3mf") continue;
       out.push_back(describe(d->id, d->fileExtension, d->description));
     }
     // The own writers do not depend on assimp offering the format.

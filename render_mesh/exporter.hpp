@@ -23,7 +23,8 @@ struct ExportFormat {
 };
 
 // Every format shellfrac can write: its own OBJ, PLY and glTF 2 writers and the other assimp exporters
-// (pbrt is left out: assimp 5.2's pbrt exporter crashes on every shellfrac scene).
+// (left out: pbrt, whose assimp 5.2 exporter crashes, and 3mf, whose exporter writes past the checked
+// I/O layer).
 const std::vector<ExportFormat>& export_formats();
 bool is_export_format(const std::string& id);
 const ExportFormat& export_format(const std::string& id);  // throws std::invalid_argument if unknown

@@ -331,6 +331,7 @@ TEST(ExportFormats, PropertiesAndBadArguments) {
   EXPECT_FALSE(export_format("gltf").keeps_vertices);  // glTF 1 through assimp: joins vertices
   EXPECT_FALSE(export_format("stl").keeps_vertices);
   EXPECT_FALSE(is_export_format("pbrt"));              // assimp 5.2's exporter crashes
+  EXPECT_FALSE(is_export_format("3mf"));               // writes past the checked I/O
   const fs::path d = fresh_dir("bad");
   PolyMesh m;
   m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
