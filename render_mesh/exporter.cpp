@@ -1,15 +1,85 @@
 #include "render_mesh/exporter.hpp"
 
 #include <assimp/Exporter.hpp>
-#include <assimp/material.h>
-#include <assimp/scene.h>
 
-#include <memory>
+#include <array>
 #include <stdexcept>
 
+#include "render_mesh/assimp_export.hpp"
 #include "render_mesh/atomic_write.hpp"
+#include "render_mesh/gltf_writer.hpp"
+#include "render_mesh/obj_writer.hpp"
+#include "render_mesh/ply_writer.hpp"
+#include "render_mesh/triangulation.hpp"
 
 namespace shellfrac::render_mesh {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+bool one_of(const std::string& id, std::initializer_list<const char*> ids) {
+  for (const char* s : ids)
+    if (id == s) return true;
+  return false;
+}
+
+// Properties of the formats, from assimp 5.2's exporter table (the post-processing each exporter
+// enforces) and from reading the files back in export_topology_test.cpp.
+ExportFormat describe(const std::string& id, const std::string& extension, const std::string& description) {
+  ExportFormat f{id, extension, description};
+  f.own_writer = one_of(id, {"obj", "objnomtl", "ply", "plyb", "gltf2", "glb2"});
+  // gltf/glb (glTF 1) and 3ds enforce JoinIdenticalVertices and stl has no shared vertices at all:
+  // those never keep the vertices. assimp's ply exporter regroups meshes by primitive type
+  // (PreTransformVertices), hence shellfrac's own PLY writer. The other assimp formats are flagged only
+  // where a test reads them back.
+  f.keeps_vertices = f.own_writer || one_of(id, {"assbin", "x3d"});
+  f.needs_triangles = one_of(id, {"gltf2", "glb2", "gltf", "glb", "stl", "stlb", "3ds", "x3d"});
+  f.double_precision = one_of(id, {"obj", "objnomtl", "ply", "plyb"});
+  if (id == "obj") f.description = "Wavefront OBJ format (shellfrac writer)";
+  if (id == "objnomtl") f.description = "Wavefront OBJ format without material file (shellfrac writer)";
+  if (id == "ply") f.description = "Stanford Polygon Library (shellfrac writer)";
+  if (id == "plyb") f.description = "Stanford Polygon Library (binary, shellfrac writer)";
+  if (id == "gltf2") f.description = "GL Transmission Format v. 2 (shellfrac writer)";
+  if (id == "glb2") f.description = "GL Transmission Format v. 2 (binary, shellfrac writer)";
+  return f;
+}
+
+void check_stem(const std::string& stem) {
+  bool plain = !stem.empty() && stem != "." && stem != "..";
+  for (const char c : stem) plain = plain && c != '/' && static_cast<unsigned char>(c) >= 0x20 && c != 0x7F;
+  if (!plain) throw std::invalid_argument("export file stem \"" + stem + "\" is not a plain file name");
+}
+
+void check_mesh(const PolyMesh& m, size_t index) {
+  const auto where = [&] { return "mesh " + std::to_string(index) + " (\"" + m.name + "\")"; };
+  if (m.face_offsets.empty() || m.face_offsets.front() != 0 ||
+      m.face_offsets.back() != static_cast<int>(m.face_vertices.size()))
+    throw std::invalid_argument(where() + ": face offsets do not cover the face vertex list");
+  for (size_t f = 0; f + 1 < m.face_offsets.size(); ++f)
+    if (m.face_offsets[f + 1] < m.face_offsets[f])
+      throw std::invalid_argument(where() + ": face " + std::to_string(f) + " has a negative size");
+  for (const int v : m.face_vertices)
+    if (v < 0 || v >= m.num_vertices())
+      throw std::invalid_argument(where() + ": face vertex " + std::to_string(v) + " outside its " +
+                                  std::to_string(m.num_vertices()) + " vertices");
+}
+
+// The mesh with its one- and two-corner faces removed; vertices unchanged.
+PolyMesh without_points_and_lines(const PolyMesh& m) {
+  PolyMesh out = m;
+  out.face_offsets.assign(1, 0);
+  out.face_vertices.clear();
+  for (int f = 0; f < m.num_faces(); ++f) {
+    const int b = m.face_offsets[static_cast<size_t>(f)], e = m.face_offsets[static_cast<size_t>(f) + 1];
+    if (e - b < 3) continue;
+    out.face_vertices.insert(out.face_vertices.end(), m.face_vertices.begin() + b, m.face_vertices.begin() + e);
+    out.face_offsets.push_back(static_cast<int>(out.face_vertices.size()));
+  }
+  return out;
+}
+
+}  // namespace
 
 const std::vector<ExportFormat>& export_formats() {
   static const std::vector<ExportFormat> formats = [] {
@@ -17,7 +87,18 @@ const std::vector<ExportFormat>& export_formats() {
     Assimp::Exporter exporter;
     for (size_t i = 0; i < exporter.GetExportFormatCount(); ++i) {
       const aiExportFormatDesc* d = exporter.GetExportFormatDescription(i);
-      out.push_back({d->id, d->fileExtension, d->description});
+      // pbrt segfaults in assimp 5.2.5 (measured on a single triangle); 3mf writes through its own zip
+      // library, past the checked I/O: under a 4 KiB file-size limit it left a truncated 613-byte
+      // archive and reported success.
+      if (std::string(d->id) == "pbrt" || std::string(d->id) == "3mf") continue;
+      out.push_back(describe(d->id, d->fileExtension, d->description));
+    }
+    // The own writers do not depend on assimp offering the format.
+    for (const auto& [id, ext, text] : {std::array<const char*, 3>{"obj", "obj", ""}, {"objnomtl", "obj", ""},
+                                        {"ply", "ply", ""}, {"plyb", "ply", ""}, {"gltf2", "gltf", ""}, {"glb2", "glb", ""}}) {
+      bool listed = false;
+      for (const auto& f : out) listed = listed || f.id == id;
+      if (!listed) out.push_back(describe(id, ext, text));
     }
     return out;
   }();
@@ -36,94 +117,54 @@ const ExportFormat& export_format(const std::string& id) {
   throw std::invalid_argument("unknown mesh export format \"" + id + "\"");
 }
 
-namespace {
+fs::path export_meshes(const std::vector<PolyMesh>& meshes, const fs::path& directory, const std::string& stem,
+                       const std::string& format_id, const ExportOptions& options) {
+  const ExportFormat& format = export_format(format_id);
+  check_stem(stem);
+  for (size_t i = 0; i < meshes.size(); ++i) check_mesh(meshes[i], i);
+  const std::string file_name = stem + "." + format.extension;
 
-aiMesh* to_ai_mesh(const PolyMesh& m) {
-  auto* out = new aiMesh();
-  out->mName = aiString(m.name);
-  out->mMaterialIndex = 0;
-  const auto nv = static_cast<unsigned>(m.num_vertices());
-  out->mNumVertices = nv;
-  out->mVertices = new aiVector3D[nv];
-  for (unsigned i = 0; i < nv; ++i) {
-    const Vec3& p = m.positions[i];
-    out->mVertices[i] = aiVector3D(static_cast<ai_real>(p.x()), static_cast<ai_real>(p.y()),
-                                   static_cast<ai_real>(p.z()));
-  }
-  if (m.normals.size() == nv) {
-    out->mNormals = new aiVector3D[nv];
-    for (unsigned i = 0; i < nv; ++i) {
-      const Vec3& n = m.normals[i];
-      out->mNormals[i] = aiVector3D(static_cast<ai_real>(n.x()), static_cast<ai_real>(n.y()),
-                                    static_cast<ai_real>(n.z()));
+  // Triangulate first where asked or needed (the glTF writer does it itself).
+  std::vector<PolyMesh> triangulated;
+  const bool triangulate_here = (options.triangulate || format.needs_triangles) && format.id != "gltf2" && format.id != "glb2";
+  // STL holds triangles only, and assimp's STL exporter wrote each particle as a facet of one vertex,
+  // which no reader accepts: points and lines are left out there.
+  const bool drop_points = format.id == "stl" || format.id == "stlb";
+  if (triangulate_here) {
+    triangulated.reserve(meshes.size());
+    for (const PolyMesh& m : meshes) {
+      PolyMesh t = triangulate(m).mesh;
+      if (drop_points) t = without_points_and_lines(t);
+      triangulated.push_back(std::move(t));
     }
   }
-  if (m.uvs.size() == nv) {
-    out->mTextureCoords[0] = new aiVector3D[nv];
-    out->mNumUVComponents[0] = 2;
-    for (unsigned i = 0; i < nv; ++i)
-      out->mTextureCoords[0][i] =
-          aiVector3D(static_cast<ai_real>(m.uvs[i].x()), static_cast<ai_real>(m.uvs[i].y()), 0);
-  }
-  const auto nf = static_cast<unsigned>(m.num_faces());
-  out->mNumFaces = nf;
-  out->mFaces = new aiFace[nf];
-  unsigned types = 0;
-  for (unsigned f = 0; f < nf; ++f) {
-    const int b = m.face_offsets[f], e = m.face_offsets[f + 1];
-    aiFace& face = out->mFaces[f];
-    face.mNumIndices = static_cast<unsigned>(e - b);
-    face.mIndices = new unsigned[face.mNumIndices];
-    for (int k = b; k < e; ++k) face.mIndices[k - b] = static_cast<unsigned>(m.face_vertices[k]);
-    types |= face.mNumIndices == 1   ? aiPrimitiveType_POINT
-             : face.mNumIndices == 2 ? aiPrimitiveType_LINE
-             : face.mNumIndices == 3 ? aiPrimitiveType_TRIANGLE
-                                     : aiPrimitiveType_POLYGON;
-  }
-  out->mPrimitiveTypes = types;
-  return out;
-}
+  const std::vector<PolyMesh>& out = triangulate_here ? triangulated : meshes;
 
-// An aiScene owning one node per mesh and one default material (several exporters need one).
-std::unique_ptr<aiScene> to_ai_scene(const std::vector<PolyMesh>& meshes) {
-  auto scene = std::make_unique<aiScene>();
-  scene->mNumMaterials = 1;
-  scene->mMaterials = new aiMaterial*[1];
-  scene->mMaterials[0] = new aiMaterial();
-  aiString material_name("shell");
-  scene->mMaterials[0]->AddProperty(&material_name, AI_MATKEY_NAME);
-
-  const auto n = static_cast<unsigned>(meshes.size());
-  scene->mNumMeshes = n;
-  scene->mMeshes = new aiMesh*[n];
-  scene->mRootNode = new aiNode("root");
-  scene->mRootNode->mNumChildren = n;
-  scene->mRootNode->mChildren = new aiNode*[n];
-  for (unsigned i = 0; i < n; ++i) {
-    scene->mMeshes[i] = to_ai_mesh(meshes[i]);
-    auto* node = new aiNode(meshes[i].name);
-    node->mParent = scene->mRootNode;
-    node->mNumMeshes = 1;
-    node->mMeshes = new unsigned[1]{i};
-    scene->mRootNode->mChildren[i] = node;
-  }
-  return scene;
-}
-
-}  // namespace
-
-std::filesystem::path export_meshes(const std::vector<PolyMesh>& meshes,
-                                    const std::filesystem::path& directory, const std::string& stem,
-                                    const std::string& format_id) {
-  const ExportFormat& format = export_format(format_id);
-  const std::string file_name = stem + "." + format.extension;
-  const std::unique_ptr<aiScene> scene = to_ai_scene(meshes);
   StagingDirectory staging(directory);
-  Assimp::Exporter exporter;
-  const std::string staged = (staging.path() / file_name).string();
-  if (exporter.Export(scene.get(), format.id, staged) != aiReturn_SUCCESS)
-    throw std::runtime_error("cannot export " + (directory / file_name).string() + " as " +
-                             format.id + ": " + exporter.GetErrorString());
+  // Errors name the final path: the staging directory is an implementation detail.
+  const auto stage = [&](const std::string& name, const std::string& content) {
+    write_file_durably(staging.path() / name, content, directory / name);
+  };
+  if (format.id == "obj" || format.id == "objnomtl") {
+    ObjSettings settings;
+    settings.significant_digits = options.double_precision ? 17 : 9;
+    if (format.id == "obj") {
+      settings.material_library = stem + ".mtl";
+      stage(settings.material_library, obj_material_text());
+    }
+    stage(file_name, obj_text(out, settings));
+  } else if (format.id == "ply" || format.id == "plyb") {
+    stage(file_name, ply_bytes(out, PlySettings{format.id == "plyb", options.double_precision}));
+  } else if (format.id == "gltf2") {
+    const std::string bin_name = stem + ".bin";
+    const GltfDocument doc = gltf_document(out, bin_name);
+    if (!doc.binary.empty()) stage(bin_name, doc.binary);
+    stage(file_name, doc.json);
+  } else if (format.id == "glb2") {
+    stage(file_name, glb_container(gltf_document(out, "")));
+  } else {
+    export_with_assimp(out, format.id, staging.path() / file_name, directory);
+  }
   return staging.commit(file_name).back();
 }
 

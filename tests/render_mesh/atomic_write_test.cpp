@@ -1,10 +1,18 @@
 #include "render_mesh/atomic_write.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <cerrno>
+#include <csignal>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include "render_mesh/exporter.hpp"
 
 namespace shellfrac::render_mesh {
 namespace {
@@ -73,6 +81,113 @@ TEST(StagingDirectory, CommitsPrimaryLastAndCleansUp) {
   EXPECT_FALSE(fs::exists(d / "g.obj"));
   EXPECT_EQ(entries(d), 2u);
   fs::remove_all(d);
+}
+
+TEST(StagingDirectory, RefusesAnEmptyFileAndMovesNothing) {
+  const fs::path d = fresh_dir("staging-empty");
+  {
+    StagingDirectory s(d);
+    std::ofstream(s.path() / "f.mtl") << "side";
+    std::ofstream(s.path() / "f.obj");  // 0 bytes: the mark of a failed unchecked write
+    EXPECT_THROW(s.commit("f.obj"), std::runtime_error);
+  }
+  EXPECT_TRUE(fs::is_empty(d));
+  fs::remove_all(d);
+}
+
+TEST(WriteFileDurably, FullDeviceThrowsWithThePathAndTheReason) {
+  // /dev/full fails every write with ENOSPC, as a full disk does. The device itself must survive.
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  try {
+    write_file_durably("/dev/full", "some bytes");
+    ADD_FAILURE() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/full"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(std::strerror(ENOSPC)), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(fs::is_character_file("/dev/full"));
+}
+
+TEST(WriteFileDurably, ReadOnlyDirectoryThrows) {
+  if (::geteuid() == 0) GTEST_SKIP() << "running as root: permissions do not stop writes";
+  const fs::path d = fresh_dir("read-only");
+  fs::permissions(d, fs::perms::owner_read | fs::perms::owner_exec);
+  EXPECT_THROW(write_file_atomically(d / "summary.json", "{}"), std::runtime_error);
+  EXPECT_THROW(export_meshes({}, d, "frame_00000", "obj"), std::runtime_error);
+  fs::permissions(d, fs::perms::owner_all);
+  EXPECT_TRUE(fs::is_empty(d));
+  fs::remove_all(d);
+}
+
+// A sheet big enough that its OBJ, PLY or glTF file is well above 4 KiB.
+PolyMesh big_sheet() {
+  PolyMesh m;
+  m.name = "sheet";
+  const int n = 30;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      m.positions.emplace_back(i / double(n), j / double(n), 0.0);
+      m.normals.emplace_back(0.0, 0.0, 1.0);
+      m.uvs.emplace_back(i / double(n), j / double(n));
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = i + (n + 1) * j;
+      m.add_face({a, a + 1, a + n + 2, a + n + 1});
+    }
+  return m;
+}
+
+// In a forked child, frame 0 is written, then the file size limit (RLIMIT_FSIZE, with SIGXFSZ ignored,
+// so write() fails with EFBIG as on a full disk) is set to 4 KiB and frame 1 must fail with the path
+// and the reason. The parent checks that frame 0 is intact and nothing of frame 1 or the staging
+// directory is left.
+TEST(ExportFailure, FileSizeLimitLeavesNoPartialFileAndKeepsEarlierFrames) {
+  for (const char* format : {"obj", "ply", "glb2", "gltf2", "collada"}) {
+    SCOPED_TRACE(format);
+    const fs::path d = fresh_dir(std::string("fsize-") + format);
+    const std::vector<PolyMesh> big{big_sheet()};
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      int code = 0;
+      try {
+        export_meshes(big, d, "frame_00000", format);
+        std::signal(SIGXFSZ, SIG_IGN);
+        const rlimit limit{4096, 4096};
+        if (::setrlimit(RLIMIT_FSIZE, &limit) != 0) ::_exit(10);
+        export_meshes(big, d, "frame_00001", format);
+        code = 11;  // no exception
+      } catch (const std::runtime_error& e) {
+        const std::string what = e.what();
+        if (what.find((d / "frame_00001").string()) == std::string::npos) code = 12;
+        if (what.find(std::strerror(EFBIG)) == std::string::npos) code = 13;
+        if (what.find(".staging") != std::string::npos) code = 14;  // the final path is named
+      } catch (...) {
+        code = 15;
+      }
+      ::_exit(code);
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 0) << "10 setrlimit, 11 no exception, 12 path, 13 reason, 14 staging named";
+    // Frame 0 complete (the same bytes as a fresh export), frame 1 and the staging directory gone.
+    const fs::path reference_dir = fresh_dir(std::string("fsize-ref-") + format);
+    const fs::path reference = export_meshes(big, reference_dir, "frame_00000", format);
+    const fs::path frame0 = d / reference.filename();
+    if (std::string(format) != "collada")  // COLLADA carries a time stamp; compare the size class instead
+      EXPECT_EQ(slurp(frame0), slurp(reference));
+    else
+      EXPECT_NEAR(static_cast<double>(fs::file_size(frame0)), static_cast<double>(fs::file_size(reference)), 64.0);
+    for (const auto& e : fs::directory_iterator(d)) {
+      const std::string name = e.path().filename().string();
+      EXPECT_EQ(name.rfind("frame_00000", 0), 0u) << name;
+      EXPECT_GT(fs::file_size(e.path()), 0u) << name;
+    }
+    fs::remove_all(d);
+    fs::remove_all(reference_dir);
+  }
 }
 
 }  // namespace

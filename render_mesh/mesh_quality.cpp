@@ -1,0 +1,189 @@
+#include "render_mesh/mesh_quality.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+#include "render_mesh/triangulation.hpp"
+
+namespace shellfrac::render_mesh {
+
+namespace {
+
+class UnionFind {
+ public:
+  explicit UnionFind(size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), size_t{0}); }
+  size_t find(size_t a) {
+    while (parent_[a] != a) a = parent_[a] = parent_[parent_[a]];
+    return a;
+  }
+  void unite(size_t a, size_t b) {
+    a = find(a), b = find(b);
+    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+  }
+
+ private:
+  std::vector<size_t> parent_;
+};
+
+bool same_faces(const PolyMesh& a, const PolyMesh& b) {
+  return a.num_vertices() == b.num_vertices() && a.face_offsets == b.face_offsets && a.face_vertices == b.face_vertices;
+}
+
+void check_rest(const PolyMesh& current, const std::vector<Vec3>& rest, const char* what) {
+  if (rest.size() != current.positions.size())
+    throw std::invalid_argument(std::string(what) + ": " + std::to_string(rest.size()) + " rest positions for " +
+                                std::to_string(current.positions.size()) + " vertices of mesh \"" + current.name + "\"");
+}
+
+}  // namespace
+
+double face_area(const PolyMesh& mesh, int face) {
+  double area = 0.0;
+  for (const auto& t : face_triangles(mesh, face)) {
+    const Vec3& a = mesh.positions[static_cast<size_t>(t[0])];
+    area += 0.5 * (mesh.positions[static_cast<size_t>(t[1])] - a).cross(mesh.positions[static_cast<size_t>(t[2])] - a).norm();
+  }
+  return area;
+}
+
+PieceStats piece_stats(const std::vector<PolyMesh>& meshes, const std::vector<VertexJoin>& joins,
+                       double min_piece_area) {
+  if (!(min_piece_area >= 0.0)) throw std::invalid_argument("piece_stats: min_piece_area must be >= 0");
+  std::vector<size_t> offset(meshes.size() + 1, 0);
+  for (size_t m = 0; m < meshes.size(); ++m) offset[m + 1] = offset[m] + meshes[m].positions.size();
+  UnionFind sets(offset.back());
+  for (size_t m = 0; m < meshes.size(); ++m) {
+    const PolyMesh& mesh = meshes[m];
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      const int b = mesh.face_offsets[static_cast<size_t>(f)], e = mesh.face_offsets[static_cast<size_t>(f) + 1];
+      if (e - b < 3) continue;
+      for (int k = b + 1; k < e; ++k)
+        sets.unite(offset[m] + static_cast<size_t>(mesh.face_vertices[static_cast<size_t>(b)]),
+                   offset[m] + static_cast<size_t>(mesh.face_vertices[static_cast<size_t>(k)]));
+    }
+  }
+  for (size_t j = 0; j < joins.size(); ++j) {
+    const VertexJoin& join = joins[j];
+    auto global = [&](int mesh, int vertex) {
+      if (mesh < 0 || static_cast<size_t>(mesh) >= meshes.size() || vertex < 0 ||
+          vertex >= meshes[static_cast<size_t>(mesh)].num_vertices())
+        throw std::invalid_argument("piece_stats: join " + std::to_string(j) + " names vertex " + std::to_string(vertex) +
+                                    " of mesh " + std::to_string(mesh) + ", which does not exist");
+      return offset[static_cast<size_t>(mesh)] + static_cast<size_t>(vertex);
+    };
+    sets.unite(global(join.mesh_a, join.vertex_a), global(join.mesh_b, join.vertex_b));
+  }
+
+  PieceStats stats;
+  std::vector<int> label_of_root(offset.back(), -1);
+  stats.face_label.resize(meshes.size());
+  for (size_t m = 0; m < meshes.size(); ++m) {
+    const PolyMesh& mesh = meshes[m];
+    stats.face_label[m].assign(static_cast<size_t>(mesh.num_faces()), -1);
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      const int b = mesh.face_offsets[static_cast<size_t>(f)], e = mesh.face_offsets[static_cast<size_t>(f) + 1];
+      if (e - b < 3) continue;
+      const size_t root = sets.find(offset[m] + static_cast<size_t>(mesh.face_vertices[static_cast<size_t>(b)]));
+      int& label = label_of_root[root];
+      if (label < 0) {
+        label = static_cast<int>(stats.component_area.size());
+        stats.component_area.push_back(0.0);
+      }
+      stats.face_label[m][static_cast<size_t>(f)] = label;
+      stats.component_area[static_cast<size_t>(label)] += face_area(mesh, f);
+    }
+  }
+  for (const double area : stats.component_area) {
+    const bool sliver = area < min_piece_area;
+    stats.component_is_sliver.push_back(sliver ? 1 : 0);
+    (sliver ? stats.slivers : stats.pieces) += 1;
+    (sliver ? stats.sliver_area : stats.piece_area) += area;
+  }
+  return stats;
+}
+
+double principal_stretch(const Vec3& r0, const Vec3& r1, const Vec3& r2, const Vec3& c0, const Vec3& c1,
+                         const Vec3& c2) {
+  // Rest edges in an orthonormal frame (t1, t2) of the rest plane: R = [[|E1|, E2.t1], [0, E2.t2]].
+  const Vec3 E1 = r1 - r0, E2 = r2 - r0;
+  const Vec3 n = E1.cross(E2);
+  const double l1 = E1.norm();
+  if (!(n.norm() > 1e-14 * l1 * E2.norm())) return 0.0;  // zero rest area
+  const Vec3 t1 = E1 / l1;
+  const Vec3 t2 = n.cross(E1).normalized();
+  Eigen::Matrix2d R;
+  R << l1, E2.dot(t1), 0.0, E2.dot(t2);
+  Eigen::Matrix<double, 3, 2> D;
+  D.col(0) = c1 - c0;
+  D.col(1) = c2 - c0;
+  // F maps rest tangent vectors to current ones: F R = D (the affine map of the triangle).
+  const Eigen::Matrix<double, 3, 2> F = D * R.inverse();
+  const Eigen::Matrix2d C = F.transpose() * F;  // right Cauchy-Green tensor of the triangle
+  const double half_trace = 0.5 * (C(0, 0) + C(1, 1));
+  const double radius = std::sqrt(0.25 * (C(0, 0) - C(1, 1)) * (C(0, 0) - C(1, 1)) + C(0, 1) * C(0, 1));
+  return std::sqrt(half_trace + radius);
+}
+
+EdgeStretch max_edge_stretch(const PolyMesh& current, const std::vector<Vec3>& rest) {
+  check_rest(current, rest, "max_edge_stretch");
+  EdgeStretch worst;
+  for (int f = 0; f < current.num_faces(); ++f) {
+    const int b = current.face_offsets[static_cast<size_t>(f)], e = current.face_offsets[static_cast<size_t>(f) + 1];
+    if (e - b < 2) continue;
+    const int edges = e - b == 2 ? 1 : e - b;  // a line has one edge, a polygon one per corner
+    for (int k = 0; k < edges; ++k) {
+      const auto u = static_cast<size_t>(current.face_vertices[static_cast<size_t>(b + k)]);
+      const auto v = static_cast<size_t>(current.face_vertices[static_cast<size_t>(b + (k + 1) % (e - b))]);
+      const double rest_length = (rest[v] - rest[u]).norm();
+      if (!(rest_length > 0.0)) continue;
+      const double length = (current.positions[v] - current.positions[u]).norm();
+      if (length / rest_length > worst.ratio) worst = {length / rest_length, f, k, length, rest_length};
+    }
+  }
+  return worst;
+}
+
+EdgeStretch max_edge_stretch(const PolyMesh& current, const PolyMesh& rest) {
+  if (!same_faces(current, rest))
+    throw std::invalid_argument("max_edge_stretch: the rest mesh of \"" + current.name + "\" has other faces");
+  return max_edge_stretch(current, rest.positions);
+}
+
+StrandStats strand_area(const PolyMesh& current, const std::vector<Vec3>& rest_positions, double threshold) {
+  check_rest(current, rest_positions, "strand_area");
+  // The triangulation is taken in the rest mesh (the UVs when present, else the rest positions), so
+  // it does not depend on the deformation.
+  PolyMesh rest;
+  rest.positions = rest_positions;
+  rest.uvs = current.uvs;
+  rest.face_offsets = current.face_offsets;
+  rest.face_vertices = current.face_vertices;
+  StrandStats stats;
+  for (int f = 0; f < current.num_faces(); ++f) {
+    double face_stretch = 0.0, area = 0.0;
+    for (const auto& t : face_triangles(rest, f)) {
+      const auto i = static_cast<size_t>(t[0]), j = static_cast<size_t>(t[1]), k = static_cast<size_t>(t[2]);
+      const Vec3 &a = current.positions[i], &b = current.positions[j], &c = current.positions[k];
+      face_stretch = std::max(face_stretch, principal_stretch(rest.positions[i], rest.positions[j], rest.positions[k], a, b, c));
+      area += 0.5 * (b - a).cross(c - a).norm();
+    }
+    if (face_stretch > stats.max_principal_stretch) stats.max_principal_stretch = face_stretch, stats.worst_face = f;
+    if (face_stretch > threshold) {
+      ++stats.faces;
+      stats.area += area;
+    }
+  }
+  return stats;
+}
+
+StrandStats strand_area(const PolyMesh& current, const PolyMesh& rest, double threshold) {
+  if (!same_faces(current, rest))
+    throw std::invalid_argument("strand_area: the rest mesh of \"" + current.name + "\" has other faces");
+  return strand_area(current, rest.positions, threshold);
+}
+
+}  // namespace shellfrac::render_mesh
