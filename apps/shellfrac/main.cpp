@@ -7,6 +7,7 @@
 #include <string>
 
 #include "apps/shellfrac/bench_command.hpp"
+#include "apps/shellfrac/preview_command.hpp"
 #include "apps/shellfrac/verify_command.hpp"
 #include "sim/run.hpp"
 #include "sim/simulation.hpp"
@@ -52,6 +53,7 @@ int main(int argc, char** argv) {
 
   const auto run_verify = shellfrac::app::add_verify_command(app);  // verify coupling
   const auto run_bench = shellfrac::app::add_bench_command(app);    // bench sweep / stability
+  const auto run_preview = shellfrac::app::add_preview_command(app);  // preview (Blender renders)
 
   try {
     app.parse(argc, argv);
@@ -62,6 +64,7 @@ int main(int argc, char** argv) {
 
   if (const auto code = run_verify()) return *code;
   if (const auto code = run_bench()) return *code;
+  if (const auto code = run_preview()) return *code;
   try {
     if (*validate) {
       const auto scene = load(validate_path);
