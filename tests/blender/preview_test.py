@@ -3,6 +3,7 @@
     python3 preview_test.py render  --shellfrac BIN --out DIR [--blender B]
     python3 preview_test.py errors  --shellfrac BIN --out DIR
     python3 preview_test.py parts   --shellfrac BIN --out DIR [--blender B]
+    python3 preview_test.py formats --shellfrac BIN --out DIR [--blender B]
 """
 import argparse
 import json
@@ -149,15 +150,54 @@ def test_parts(args):
                  "%s joined into one object (no welding): expected %d parts, got %s" % (scene, total, joined))
 
 
+def scene_in_format(scene, fmt, directory):
+    """A copy of a test scene that writes its frames as `fmt` (an assimp export id)."""
+    with open(os.path.join(SCENES, scene)) as f:
+        data = json.load(f)
+    data["output"]["format"] = fmt
+    path = os.path.join(directory, "%s-%s.json" % (os.path.splitext(scene)[0], fmt))
+    with open(path, "w") as f:
+        json.dump(data, f)
+    return path
+
+
+def test_formats(args):
+    """Every frame format preview reads: the cut-through sheet is 2 parts in Blender and in the preview."""
+    blender = bt.blender_program(args.blender)
+    env = dict(os.environ, SHELLFRAC_BLENDER=blender)
+    for fmt in ("ply", "stl", "gltf2", "glb2", "collada"):
+        run_dir = os.path.join(args.out, "cut-through-" + fmt)
+        summary = bt.shellfrac_run(args.shellfrac, scene_in_format("cut-through.json", fmt, args.out), run_dir, threads=1)
+        rec = bt.count_loose_parts(blender, os.path.join(run_dir, summary["frames"][-1]))
+        bt.check(rec["welded"] == 2, "%s: the cut-through sheet should be 2 parts in Blender, got %s" % (fmt, rec))
+        if fmt in ("ply", "glb2"):  # the whole command too, on a format without and one with objects per shell
+            png_dir = os.path.join(run_dir, "png")
+            code, out, err = bt.run([args.shellfrac, "preview", run_dir, "--size", "64x48", "--samples", "1",
+                                     "--threads", "2", "--out", png_dir], env=env)
+            bt.check(code == 0, "preview of the %s run exited %d:\n%s%s" % (fmt, code, out, err))
+            with open(os.path.join(png_dir, "preview.json")) as f:
+                frame = json.load(f)["frames"][0]
+            bt.check(frame["loose_parts"] == 2, "preview of the %s run: %d loose parts, expected 2" % (fmt, frame["loose_parts"]))
+            w, h, _ = png_reader.pixels(frame["png"])
+            bt.check((w, h) == (64, 48), "%s: a %dx%d PNG, asked for 64x48" % (fmt, w, h))
+        print("%s: 2 loose parts" % fmt)
+    # A format Blender cannot read back is refused before Blender starts, with the list of those it can.
+    run_dir = os.path.join(args.out, "tiny-fbx")
+    bt.shellfrac_run(args.shellfrac, scene_in_format("tiny-sheet.json", "fbx", args.out), run_dir, threads=1)
+    code, out, err = bt.run([args.shellfrac, "preview", run_dir], env=env)
+    bt.check(code == 2 and ".obj, .ply, .stl, .gltf, .glb, .dae" in err and "not .fbx" in err,
+             "preview of an FBX run: exit %d (expected 2) with the readable formats:\n%s" % (code, err))
+
+
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("test", choices=("render", "errors", "parts"))
+    ap.add_argument("test", choices=("render", "errors", "parts", "formats"))
     ap.add_argument("--shellfrac", required=True)
     ap.add_argument("--blender")
     ap.add_argument("--out", required=True)
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
-    {"render": test_render, "errors": test_errors, "parts": test_parts}[args.test](args)
+    {"render": test_render, "errors": test_errors, "parts": test_parts, "formats": test_formats}[args.test](args)
     print("PASS")
 
 
