@@ -68,7 +68,11 @@ def test_render(args):
     shutil.rmtree(png_dir, ignore_errors=True)
     width, height = 200, 150
     env = dict(os.environ, SHELLFRAC_BLENDER=blender)
-    code, out, err = bt.run([args.shellfrac, "preview", run_dir, "--frames", "all", "--size", "%dx%d" % (width, height),
+    # A copy of the binary in a folder of its own: the Blender scripts travel inside it.
+    relocated = os.path.join(args.out, "relocated", "bin", "shellfrac")
+    os.makedirs(os.path.dirname(relocated), exist_ok=True)
+    shutil.copy2(args.shellfrac, relocated)
+    code, out, err = bt.run([relocated, "preview", run_dir, "--frames", "all", "--size", "%dx%d" % (width, height),
                              "--samples", "4", "--threads", "2", "--out", png_dir], env=env)
     bt.check(code == 0, "preview exited %d:\n%s%s" % (code, out, err))
     with open(os.path.join(png_dir, "preview.json")) as f:
@@ -94,6 +98,7 @@ def test_render(args):
         bt.check(fr["loose_parts"] == 1 and fr["slivers"] == 0 and fr["strand_faces"] == 0,
                  "frame %d: an intact sheet is one part without slivers or strands: %s" % (k, fr))
     # Frame 0 is the rest state itself: every edge has stretch 1 (up to float32 vertex coordinates).
+    bt.check(record["frames"][0]["stretch_reference"] == "rest", "stretch not measured against frame 0: %s" % record["frames"][0])
     bt.check(abs(record["frames"][0]["max_edge_stretch"] - 1) < 1e-5,
              "frame 0 measured against itself should have stretch 1, got %r" % record["frames"][0]["max_edge_stretch"])
     # Contact sheet: thumbnails 200 px wide (the images are narrower than 240), 2 in a row, 6 px gaps,
@@ -148,6 +153,23 @@ def test_parts(args):
         joined = bt.count_loose_parts(blender, os.path.join(run_dir, summary["frames"][-1]), ["--join"])
         bt.check(len(joined["objects"]) == 1 and joined["total"] == total,
                  "%s joined into one object (no welding): expected %d parts, got %s" % (scene, total, joined))
+    # Two uncoupled OBJ patches side by side, a gap between them: Blender 3.4 imports one object (the shells
+    # are vertex groups), two loose parts; the seam weld joins them when the gap is under the weld distance.
+    for gap, welded in ((5e-5, 1), (1e-3, 2)):
+        with open(os.path.join(SCENES, "two-patches.json")) as f:
+            data = json.load(f)
+        data["output"]["format"], data["gravity"] = "obj", [0, 0, 0]
+        del data["interfaces"]
+        data["shells"][1]["patch"]["origin"] = [0.5 + gap, 0, 0]
+        scene = os.path.join(args.out, "two-patches-gap-%g.json" % gap)
+        with open(scene, "w") as f:
+            json.dump(data, f)
+        run_dir = os.path.join(args.out, "two-patches-gap-%g" % gap)
+        summary = bt.shellfrac_run(args.shellfrac, scene, run_dir, threads=1)
+        rec = bt.count_loose_parts(blender, os.path.join(run_dir, summary["frames"][-1]))
+        print("two patches %g m apart: %s" % (gap, json.dumps({k: rec[k] for k in ("objects", "total", "welded")})))
+        bt.check(rec["total"] == 2 and rec["welded"] == welded,
+                 "two patches %g m apart: expected 2 parts, %d welded (weld distance 1e-4 m): %s" % (gap, welded, rec))
 
 
 def scene_in_format(scene, fmt, directory):

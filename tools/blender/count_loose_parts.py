@@ -9,9 +9,10 @@ starting with "loose-parts: ":
     {"file": ..., "objects": {name: parts, ...}, "total": sum over objects, "welded": parts over all
      objects once patches are joined along their seams, "vertices": n, "faces": n}
 --join first joins all objects into one (bpy.ops.object.join, which welds nothing), so "total" is then
-counted on the joined object. "welded" joins two objects' parts where a boundary vertex of one lies within
---weld-distance (default 1e-4 m, Blender's "Merge by Distance" default) of the other's faces, which is
-how a multi-patch garment falls into pieces; for one object it equals "total".
+counted on the joined object. "welded" also joins two patches' parts where a boundary vertex of one lies
+within --weld-distance (default 1e-4 m, Blender's "Merge by Distance" default) of the other's faces: the
+seams, which is how a multi-patch garment falls into pieces. Patches are objects, or in an OBJ frame (one
+object in Blender 3.4) the shells' groups, kept as vertex groups. For one patch it equals "total".
 """
 import argparse
 import json

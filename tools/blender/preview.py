@@ -27,8 +27,8 @@ from mathutils import Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from shellfrac_mesh import (  # noqa: E402  (next to this file, in the repository and when embedded)
-    RestShape, base_name, edge_stretch, empty_scene, face_area_by_class, import_frame, remove_objects,
-    script_arguments, welded_parts, WELD_DISTANCE)
+    edge_stretch, empty_scene, face_area_by_class, import_frame, remove_objects, rest_shapes, script_arguments,
+    welded_parts, WELD_DISTANCE)
 
 PREFIX = "shellfrac-preview: "
 STRAND_STRETCH = 3.0  # the issue's strand threshold: a render edge over 3x its rest length
@@ -181,7 +181,7 @@ def palette(i):
 STRAND_RED = (0.9, 0.02, 0.02)
 
 
-def colour_frame(objects, rest_shapes, sliver_area, marker_radius, mat, marker_mat, collection):
+def colour_frame(objects, rest, sliver_area, marker_radius, mat, marker_mat, collection):
     """Writes the "preview" colours and sliver markers for one frame; returns its numbers."""
     per_object, offsets, classes, n_classes = welded_parts(objects)
     area, centre = face_area_by_class(objects, per_object, offsets, classes, n_classes)
@@ -190,8 +190,8 @@ def colour_frame(objects, rest_shapes, sliver_area, marker_radius, mat, marker_m
     max_stretch, strand_faces, strand_area, reference = 0.0, 0, 0.0, set()
     for o, (part, _), off in zip(objects, per_object, offsets):
         me = o.data
-        stretch, ref = edge_stretch(o, rest_shapes.get(base_name(o.name)))
-        reference.add(ref)
+        stretch, ref = edge_stretch(o, rest)
+        reference.update(r for r in ref.split("+") if r)
         if stretch:
             max_stretch = max(max_stretch, max(stretch.values()))
         long_edges = {me.edges[i].key for i, s in stretch.items() if s > STRAND_STRETCH}
@@ -329,10 +329,10 @@ def main():
 
     empty_scene()
     set_up_render(width, height, args.samples, args.threads)
-    rest_shapes = {}
+    rest = {}
     if args.rest:
         rest_objects = import_frame(args.rest)
-        rest_shapes = {base_name(o.name): RestShape(o) for o in rest_objects}
+        rest = rest_shapes(rest_objects)
         for o in rest_objects:
             o.name = "rest " + o.name  # frees the shell names for the frames
             o.hide_render = True
@@ -360,7 +360,7 @@ def main():
         collection = bpy.data.collections.new("frame %d" % number)
         bpy.context.scene.collection.children.link(collection)
         objects = import_frame(path, collection)
-        record = colour_frame(objects, rest_shapes, args.sliver_area, 0.012 * diagonal, mat, marker_mat, collection)
+        record = colour_frame(objects, rest, args.sliver_area, 0.012 * diagonal, mat, marker_mat, collection)
         png = os.path.join(args.out, "frame_%05d.png" % number)
         bpy.context.scene.render.filepath = png
         t0, c0 = time.perf_counter(), time.process_time()

@@ -41,7 +41,9 @@ def import_frame(path, collection=None):
     before = set(bpy.data.objects)
     rotate = False
     if ext == ".obj":
-        bpy.ops.wm.obj_import(filepath=path)  # Blender 3.4's C++ importer; its defaults convert Y-up
+        # Blender 3.4's C++ importer; its default axes convert Y-up. It makes one object per file and
+        # ignores the "g" lines naming the shells unless asked to keep them as vertex groups.
+        bpy.ops.wm.obj_import(filepath=path, import_vertex_groups=True)
     elif ext == ".ply":
         bpy.ops.import_mesh.ply(filepath=path)  # no axis conversion in this importer
         rotate = True
@@ -122,38 +124,69 @@ class UnionFind:
             self.parent[max(a, b)] = min(a, b)
 
 
+def patch_of_faces(obj):
+    """The patch (shell) name of every face of obj. OBJ frames name the shells with groups, which Blender
+    3.4 imports as vertex groups (import_vertex_groups); glTF and COLLADA give each shell an object of its
+    own; a format with neither (PLY, STL: all shells in one object) is one patch as far as Blender can tell."""
+    me = obj.data
+    default = base_name(obj.name)
+    names = {g.index: g.name for g in obj.vertex_groups}
+    if not names:
+        return [default] * len(me.polygons)
+    groups = [{g.group for g in v.groups} for v in me.vertices]
+    out = []
+    for p in me.polygons:
+        common = set.intersection(*(groups[i] for i in p.vertices))
+        out.append(names[min(common)] if common else default)
+    return out
+
+
+def patches(objects):
+    """[(object index, patch name, face indices)] over all objects."""
+    out = []
+    for oi, o in enumerate(objects):
+        faces = {}
+        for fi, name in enumerate(patch_of_faces(o)):
+            faces.setdefault(name, []).append(fi)
+        out.extend((oi, name, f) for name, f in faces.items())
+    return out
+
+
 def welded_parts(objects, weld_distance=WELD_DISTANCE):
-    """Loose parts over several objects, joining two objects' parts where a boundary vertex of one lies
-    within weld_distance of the other's surface (patch seams: the frames keep patches as separate objects,
-    and non-conforming seams do not share vertices). Returns (per object: (part per vertex, count),
-    class per global part, number of classes); global part ids number the objects' parts in order."""
+    """Loose parts over several objects and patches, joining two patches' parts where a boundary vertex of
+    one lies within weld_distance of the other's faces: the seams, which the frames do not weld (patches are
+    separate objects or groups, and non-conforming seams share no vertices). The two sides of a crack lie in
+    one patch and are never joined. Returns (per object: (part per vertex, count), offset of each object's
+    parts in the global numbering, class per global part, number of classes)."""
     per_object = [loose_parts(o) for o in objects]
     offsets, total = [], 0
     for _, n in per_object:
         offsets.append(total)
         total += n
     uf = UnionFind(total)
-    if len(objects) > 1 and weld_distance > 0:
-        trees = []
-        for o in objects:
-            me = o.data
-            trees.append(BVHTree.FromPolygons([v.co for v in me.vertices], [list(p.vertices) for p in me.polygons])
-                         if len(me.polygons) else None)
-        for a, oa in enumerate(objects):
-            bm = bmesh.new()
-            bm.from_mesh(oa.data)
-            boundary = [v.co.copy() for v in bm.verts if v.is_boundary]
-            indices = [v.index for v in bm.verts if v.is_boundary]
-            bm.free()
-            for b, ob in enumerate(objects):
-                if b == a or trees[b] is None:
+    pieces = patches(objects)
+    if len(pieces) > 1 and weld_distance > 0:
+        trees, boundaries = [], []
+        for oi, _, faces in pieces:
+            me = objects[oi].data
+            polys = [list(me.polygons[f].vertices) for f in faces]
+            trees.append(BVHTree.FromPolygons([v.co for v in me.vertices], polys))
+            uses = {}
+            for f in faces:
+                for key in me.polygons[f].edge_keys:
+                    uses[key] = uses.get(key, 0) + 1
+            boundaries.append(sorted({v for key, n in uses.items() if n == 1 for v in key}))
+        for a, (oa, _, _) in enumerate(pieces):
+            verts = objects[oa].data.vertices
+            for b, (ob, _, faces_b) in enumerate(pieces):
+                if b == a:
                     continue
-                polys = ob.data.polygons
-                for co, vi in zip(boundary, indices):
-                    hit = trees[b].find_nearest(co, weld_distance)
+                polys_b = objects[ob].data.polygons
+                for vi in boundaries[a]:
+                    hit = trees[b].find_nearest(verts[vi].co, weld_distance)
                     if hit[0] is not None:
-                        pb = per_object[b][0][polys[hit[2]].vertices[0]]
-                        uf.union(offsets[a] + per_object[a][0][vi], offsets[b] + pb)
+                        pb = per_object[ob][0][polys_b[faces_b[hit[2]]].vertices[0]]
+                        uf.union(offsets[oa] + per_object[oa][0][vi], offsets[ob] + pb)
     roots = {}
     classes = [roots.setdefault(uf.find(g), len(roots)) for g in range(total)]
     return per_object, offsets, classes, len(roots)
@@ -172,61 +205,73 @@ def face_area_by_class(objects, per_object, offsets, classes, n_classes):
 
 class RestShape:
     """Rest positions of one patch as a function of its UV (the patch parameters shellfrac writes as
-    texture coordinates): the frame-0 mesh, triangulated, searched in the UV plane."""
+    texture coordinates): the patch's faces in frame 0, triangulated, searched in the UV plane."""
 
-    def __init__(self, obj):
+    def __init__(self, obj, faces):
         me = obj.data
-        self.ok = bool(me.uv_layers) and len(me.polygons) > 0
+        self.ok = bool(me.uv_layers) and len(faces) > 0
         if not self.ok:
             return
         uv = me.uv_layers.active.data
         self.uv, self.xyz, self.tris = [], [], []
-        for p in me.polygons:
-            loops = list(p.loop_indices)
+        for f in faces:
+            loops = list(me.polygons[f].loop_indices)
             for k in range(1, len(loops) - 1):
                 self.tris.append([len(self.uv), len(self.uv) + 1, len(self.uv) + 2])
                 for li in (loops[0], loops[k], loops[k + 1]):
                     self.uv.append(Vector((uv[li].uv[0], uv[li].uv[1], 0.0)))
                     self.xyz.append(me.vertices[me.loops[li].vertex_index].co.copy())
+        # Several shells in one object without groups (PLY, STL) overlap in the UV plane: a UV then names
+        # no single rest point. Their triangles then cover more than their bounding box.
+        area = sum(abs((self.uv[b] - self.uv[a]).cross(self.uv[c] - self.uv[a]).z) / 2 for a, b, c in self.tris)
+        lo = [min(t[i] for t in self.uv) for i in (0, 1)]
+        hi = [max(t[i] for t in self.uv) for i in (0, 1)]
+        self.ok = area <= (hi[0] - lo[0]) * (hi[1] - lo[1]) * (1 + 1e-3)
         self.tree = BVHTree.FromPolygons(self.uv, self.tris)
 
     def position(self, u, v):
-        q = Vector((u, v, 0.0))
-        hit = self.tree.find_nearest(q)
+        hit = self.tree.find_nearest(Vector((u, v, 0.0)))
         if hit[0] is None:
             return None
         a, b, c = self.tris[hit[2]]
-        p = hit[0]
-        return barycentric_transform(p, self.uv[a], self.uv[b], self.uv[c], self.xyz[a], self.xyz[b], self.xyz[c])
+        return barycentric_transform(hit[0], self.uv[a], self.uv[b], self.uv[c], self.xyz[a], self.xyz[b], self.xyz[c])
+
+
+def rest_shapes(objects):
+    """The rest shape of every patch of the frame-0 objects, by patch name."""
+    return {name: RestShape(objects[oi], faces) for oi, name, faces in patches(objects)}
 
 
 def edge_stretch(obj, rest):
-    """World length over rest length for every edge of obj (rest length from the frame-0 mesh through
-    the UVs); without UVs or a rest shape, over the median edge length of obj instead. Returns a dict
-    edge index -> stretch, and the name of the reference used."""
+    """World length over rest length of the edges of obj. The rest length comes from the frame-0 mesh of
+    the same patch at the same UVs (rest: patch name -> RestShape; a frame of a single patch also matches
+    the only rest shape there is). Edges without one are measured against the median edge of obj instead.
+    Returns a dict edge index -> stretch, and the reference used ("rest", "median" or both)."""
     me = obj.data
-    lengths = {e.index: (me.vertices[e.vertices[0]].co - me.vertices[e.vertices[1]].co).length for e in me.edges}
-    if rest is not None and rest.ok and me.uv_layers:
+    lengths = [(me.vertices[e.vertices[0]].co - me.vertices[e.vertices[1]].co).length for e in me.edges]
+    out = {}
+    if me.uv_layers:
         uv = me.uv_layers.active.data
-        vertex_uv = {}
-        for li, loop in enumerate(me.loops):
-            vertex_uv.setdefault(loop.vertex_index, uv[li].uv.copy())
-        rest_of = {}
-        for vi, t in vertex_uv.items():
-            rest_of[vi] = rest.position(t[0], t[1])
-        out = {}
-        for e in me.edges:
-            a, b = rest_of.get(e.vertices[0]), rest_of.get(e.vertices[1])
-            if a is None or b is None:
+        only = next(iter(rest.values())) if len(rest) == 1 else None
+        for p, name in zip(me.polygons, patch_of_faces(obj)):
+            shape = rest.get(name, only)
+            if shape is None or not shape.ok:
                 continue
-            rl = (a - b).length
-            if rl > 0:
-                out[e.index] = lengths[e.index] / rl
-        if out:
-            return out, "rest"
-    values = sorted(lengths.values())
-    median = values[len(values) // 2] if values else 0.0
-    return ({i: l / median for i, l in lengths.items()} if median > 0 else {}), "median"
+            loops = list(p.loop_indices)
+            at = [shape.position(uv[li].uv[0], uv[li].uv[1]) for li in loops]
+            for k, li in enumerate(loops):  # loop k runs from corner k to corner k + 1
+                a, b = at[k], at[(k + 1) % len(loops)]
+                if a is not None and b is not None and (a - b).length > 0:
+                    out[me.loops[li].edge_index] = lengths[me.loops[li].edge_index] / (a - b).length
+    refs = {"rest"} if out else set()
+    if len(out) < len(lengths):
+        values = sorted(lengths)
+        median = values[len(values) // 2]
+        if median > 0:
+            refs.add("median")
+            for i, l in enumerate(lengths):
+                out.setdefault(i, l / median)
+    return out, "+".join(sorted(refs))
 
 
 def base_name(name):
