@@ -14,7 +14,8 @@ namespace {
 
 // Cracked patch (thesis sec. 4.9, Algorithm 5): split the R x S grid along the crack, give each side its
 // own shadow vertices, and place them with MLS near the crack and NURBS elsewhere.
-render_mesh::PolyMesh cracked_mesh(const sim::Simulation& sim, size_t i, const crack2d::CrackGraph& graph) {
+render_mesh::PolyMesh cracked_mesh(const sim::Simulation& sim, size_t i, const crack2d::CrackGraph& graph,
+                                   std::vector<Eigen::Vector3d>* rest) {
   const scene::Model& model = sim.model();
   const shell::ShellPatch& patch = sim.world().shell(i);
   const nurbs::NurbsSurface& ref = patch.reference();
@@ -33,22 +34,27 @@ render_mesh::PolyMesh cracked_mesh(const sim::Simulation& sim, size_t i, const c
     shell::MlsBasis work;
     for (size_t k = r.begin(); k != r.end(); ++k) positions[k] = patch.position_at(mesh.uv[k], work);
   });
+  if (rest) {
+    rest->resize(mesh.uv.size());
+    tbb::parallel_for(size_t{0}, mesh.uv.size(), [&](size_t k) { (*rest)[k] = ref.point(mesh.uv[k].x(), mesh.uv[k].y()); });
+  }
   return render_mesh::assemble_render_mesh(mesh, domain, std::move(positions), {}, sim.world().shell_name(i));
 }
 
-}  // namespace
-
-std::vector<render_mesh::PolyMesh> render_meshes(const sim::Simulation& sim) {
+std::vector<render_mesh::PolyMesh> meshes_of(const sim::Simulation& sim, std::vector<std::vector<Eigen::Vector3d>>* rest) {
   const sim::World& world = sim.world();
   const scene::Model& model = sim.model();
   std::vector<render_mesh::PolyMesh> meshes(world.num_shells());
+  if (rest) rest->assign(world.num_shells(), {});
   for (size_t i = 0; i < world.num_shells(); ++i) {
     const crack2d::CrackGraph* graph = sim.crack_graph(i);
-    if (!graph || graph->empty())
-      meshes[i] = render_mesh::tessellate(world.shell(i).current_surface(), model.output.resolution_u,
-                                          model.output.resolution_v, world.shell_name(i));
-    else
-      meshes[i] = cracked_mesh(sim, i, *graph);
+    const int R = model.output.resolution_u, S = model.output.resolution_v;
+    if (graph && !graph->empty()) {
+      meshes[i] = cracked_mesh(sim, i, *graph, rest ? &(*rest)[i] : nullptr);
+      continue;
+    }
+    meshes[i] = render_mesh::tessellate(world.shell(i).current_surface(), R, S, world.shell_name(i));
+    if (rest) (*rest)[i] = render_mesh::tessellate(world.shell(i).reference(), R, S, world.shell_name(i)).positions;
   }
   // Solids as point clouds (one point primitive per particle).
   for (size_t k = 0; k < world.num_solids(); ++k) {
@@ -59,6 +65,16 @@ std::vector<render_mesh::PolyMesh> render_meshes(const sim::Simulation& sim) {
     meshes.push_back(std::move(cloud));
   }
   return meshes;
+}
+
+}  // namespace
+
+std::vector<render_mesh::PolyMesh> render_meshes(const sim::Simulation& sim) { return meshes_of(sim, nullptr); }
+
+FrameMeshes render_frame(const sim::Simulation& sim) {
+  FrameMeshes f;
+  f.meshes = meshes_of(sim, &f.rest);
+  return f;
 }
 
 double collider_penetration(const sim::Simulation& sim, const std::vector<render_mesh::PolyMesh>& meshes) {

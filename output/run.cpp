@@ -9,6 +9,7 @@
 
 #include "core/version.hpp"
 #include "output/frame_render.hpp"
+#include "output/mesh_metrics.hpp"
 #include "output/progress.hpp"
 #include "output/seam_metrics.hpp"
 #include "render_mesh/atomic_write.hpp"
@@ -42,22 +43,37 @@ class FrameWriter {
     SeamCrackPositions cracks;
     for (size_t i = 0; i < model_.interfaces.size(); ++i) cracks.push_back(sim.seam_cracks(i));
     seams_.record(frame, sim.time(), sim.world(), cracks);
-    const auto meshes = render_meshes(sim);
-    fragments_ = 0;
-    for (size_t i = 0; i < model_.shells.size(); ++i) fragments_ += render_mesh::count_components(meshes[i]);
-    penetration_ = std::max(penetration_, collider_penetration(sim, meshes));
-    const fs::path written = render_mesh::export_meshes(meshes, frames_dir(), frame_stem(frame), model_.output.format);
+    const FrameMeshes meshes = render_frame(sim);
+    record_quality(measure_mesh_quality(sim, meshes), frame);
+    penetration_ = std::max(penetration_, collider_penetration(sim, meshes.meshes));
+    const render_mesh::ExportOptions options{model_.output.triangulate, model_.output.double_precision};
+    const fs::path written =
+        render_mesh::export_meshes(meshes.meshes, frames_dir(), frame_stem(frame), model_.output.format, options);
     files_.push_back(fs::relative(written, out_dir_).string());
   }
 
   const std::vector<std::string>& files() const { return files_; }
   double penetration() const { return penetration_; }
-  long fragments() const { return fragments_; }  // connected components of the shells' meshes, last frame
+  const MeshReport& mesh() const { return mesh_; }
   const sim::StageTimer& timer() const { return timer_; }
   const SeamRecorder& seams() const { return seams_; }
 
  private:
   fs::path frames_dir() const { return out_dir_ / "frames"; }
+  void record_quality(const MeshQuality& q, int frame) {
+    mesh_.pieces = q.pieces;
+    mesh_.sliver_count = q.slivers;
+    mesh_.sliver_area = q.sliver_area;
+    mesh_.piece_areas = q.piece_areas;
+    mesh_.max_edge_stretch = q.max_edge_stretch;
+    mesh_.strand_area = q.strand_area;
+    mesh_.strand_faces = q.strand_faces;
+    if (q.max_edge_stretch > mesh_.peak_edge_stretch) {
+      mesh_.peak_edge_stretch = q.max_edge_stretch;
+      mesh_.peak_edge_stretch_frame = frame;
+    }
+    mesh_.peak_strand_area = std::max(mesh_.peak_strand_area, q.strand_area);
+  }
 
   const scene::Model& model_;
   fs::path out_dir_;
@@ -65,10 +81,10 @@ class FrameWriter {
   sim::StageTimer timer_;
   std::vector<std::string> files_;
   double penetration_ = 0;
-  long fragments_ = 0;
+  MeshReport mesh_;
 };
 
-CrackReport crack_report(const sim::Simulation& sim, long fragments) {
+CrackReport crack_report(const sim::Simulation& sim) {
   const sim::CrackStats& c = sim.crack_stats();
   CrackReport r;
   r.extractions = c.extractions;
@@ -80,12 +96,10 @@ CrackReport crack_report(const sim::Simulation& sim, long fragments) {
   r.contact_pairs = c.contact_pairs;
   r.max_contact_residual = c.max_contact_residual;
   r.seam_continuations = c.seam_continuations;
-  r.body_fragments = sim.body_fragments();
   for (size_t i = 0; i < sim.world().num_shells(); ++i) {
     const shell::ShellPatch& p = sim.world().shell(i);
     r.max_damage = std::max(r.max_damage, p.fractures() ? p.max_damage() : 0.0);
   }
-  r.fragments = fragments;
   if (!c.first_mls_failure.empty()) r.first_mls_failure = c.first_mls_failure;
   return r;
 }
@@ -133,6 +147,7 @@ Summary make_summary(const sim::Simulation& sim, const FrameWriter& frames, int 
   }
   for (const auto& stage : frames.timer().seconds()) s.stage_seconds.push_back(stage);
   Metrics& m = s.metrics;
+  m.mesh = frames.mesh();
   m.max_collider_penetration = frames.penetration();
   m.max_collider_penetration_cells = frames.penetration() / sim.dx();
   m.peak_kinetic_energy = peak_kinetic;
@@ -141,7 +156,7 @@ Summary make_summary(const sim::Simulation& sim, const FrameWriter& frames, int 
     m.max_plastic_strain = std::max(m.max_plastic_strain, sim.world().shell(i).max_plastic_strain());
   if (frames.seams().active()) m.interfaces = frames.seams().reports();
   if (model.has_cracks()) {
-    m.cracks = crack_report(sim, frames.fragments());
+    m.cracks = crack_report(sim);
     s.crack_graphs = crack_graphs(sim);
   }
   if (step_seconds > 0) {
@@ -150,6 +165,17 @@ Summary make_summary(const sim::Simulation& sim, const FrameWriter& frames, int 
     m.quadrature_point_steps_per_second_per_core = qps / threads;
   }
   return s;
+}
+
+// What a user should look at before rendering the frames.
+void warn_about_mesh(const MeshReport& m, std::ostream& log) {
+  if (m.sliver_count > 0)
+    log << "warning: the last frame has " << m.sliver_count << " sliver(s) smaller than a grid cell (" << m.sliver_area
+        << " m^2 in all; metrics.slivers)\n";
+  if (m.strand_faces > 0)
+    log << "warning: the last frame has " << m.strand_faces << " render face(s) stretched beyond the strand threshold ("
+        << m.strand_area << " m^2; largest edge stretch " << m.max_edge_stretch
+        << "): material that joins pieces, see metrics.strand_area in docs/cli.md\n";
 }
 
 }  // namespace
@@ -186,7 +212,9 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
     throw;
   }
   progress.finish(std::to_string(last_frame + 1) + " frames, " + std::to_string(sim.steps()) + " steps");
-  return finish("completed", "");
+  const Summary summary = finish("completed", "");
+  warn_about_mesh(summary.metrics.mesh, log);
+  return summary;
 }
 
 }  // namespace shellfrac::output

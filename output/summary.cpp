@@ -46,9 +46,7 @@ Json cracks_json(const CrackReport& c) {
             {"contact_pairs", c.contact_pairs},
             {"max_contact_residual", c.max_contact_residual},
             {"seam_continuations", c.seam_continuations},
-            {"body_fragments", c.body_fragments},
-            {"max_damage", c.max_damage},
-            {"fragments", c.fragments}};
+            {"max_damage", c.max_damage}};
   if (c.first_mls_failure) j["first_mls_failure"] = *c.first_mls_failure;
   return j;
 }
@@ -109,9 +107,7 @@ CrackReport cracks_from(const Json& j) {
   c.contact_pairs = get<size_t>(j, "contact_pairs");
   c.max_contact_residual = get<double>(j, "max_contact_residual");
   c.seam_continuations = get<size_t>(j, "seam_continuations");
-  c.body_fragments = get<size_t>(j, "body_fragments");
   c.max_damage = get<double>(j, "max_damage");
-  c.fragments = get<long>(j, "fragments");
   c.first_mls_failure = get_optional<std::string>(j, "first_mls_failure");
   return c;
 }
@@ -142,6 +138,14 @@ nlohmann::json to_json(const Summary& s) {
   j["stage_seconds"] = stages;
   const Metrics& m = s.metrics;
   Json metrics = Json::object();
+  metrics["pieces"] = m.mesh.pieces;
+  metrics["slivers"] = {{"count", m.mesh.sliver_count}, {"area", m.mesh.sliver_area}};
+  metrics["piece_areas"] = m.mesh.piece_areas;
+  metrics["max_edge_stretch"] = m.mesh.max_edge_stretch;
+  metrics["strand_area"] = m.mesh.strand_area;
+  metrics["strand_faces"] = m.mesh.strand_faces;
+  metrics["peak_edge_stretch"] = {{"value", m.mesh.peak_edge_stretch}, {"frame", m.mesh.peak_edge_stretch_frame}};
+  metrics["peak_strand_area"] = m.mesh.peak_strand_area;
   metrics["max_collider_penetration"] = m.max_collider_penetration;
   metrics["max_collider_penetration_cells"] = m.max_collider_penetration_cells;
   metrics["peak_kinetic_energy"] = m.peak_kinetic_energy;
@@ -186,6 +190,17 @@ Summary summary_from_json(const nlohmann::json& j) {
                        get<size_t>(counts, "shear_particles"), get<size_t>(counts, "quadrature_points")};
   for (const auto& [name, seconds] : field(j, "stage_seconds").items()) s.stage_seconds.emplace_back(name, seconds.get<double>());
   const Json& m = field(j, "metrics");
+  MeshReport& mesh = s.metrics.mesh;
+  mesh.pieces = get<int>(m, "pieces");
+  mesh.sliver_count = get<int>(field(m, "slivers"), "count");
+  mesh.sliver_area = get<double>(field(m, "slivers"), "area");
+  mesh.piece_areas = get<std::vector<double>>(m, "piece_areas");
+  mesh.max_edge_stretch = get<double>(m, "max_edge_stretch");
+  mesh.strand_area = get<double>(m, "strand_area");
+  mesh.strand_faces = get<int>(m, "strand_faces");
+  mesh.peak_edge_stretch = get<double>(field(m, "peak_edge_stretch"), "value");
+  mesh.peak_edge_stretch_frame = get<int>(field(m, "peak_edge_stretch"), "frame");
+  mesh.peak_strand_area = get<double>(m, "peak_strand_area");
   s.metrics.max_collider_penetration = get<double>(m, "max_collider_penetration");
   s.metrics.max_collider_penetration_cells = get<double>(m, "max_collider_penetration_cells");
   s.metrics.peak_kinetic_energy = get<double>(m, "peak_kinetic_energy");

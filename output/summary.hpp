@@ -46,10 +46,23 @@ struct CrackReport {
   size_t subset_violations = 0, crack_segments = 0, mls_points = 0, mls_failures = 0, max_split_nodes = 0;
   size_t contact_pairs = 0;
   double max_contact_residual = 0;
-  size_t seam_continuations = 0, body_fragments = 0;
+  size_t seam_continuations = 0;
   double max_damage = 0;
-  long fragments = 0;
   std::optional<std::string> first_mls_failure;
+};
+
+// The render mesh of the last frame (metrics.pieces, ...) and the largest stretch seen in any frame.
+struct MeshReport {
+  int pieces = 0;  // connected components (across patches and coupled seams) of at least one grid cell
+  int sliver_count = 0;  // smaller components: metrics.slivers.count and .area
+  double sliver_area = 0;
+  std::vector<double> piece_areas;
+  double max_edge_stretch = 0;  // render-edge length over rest length, largest in the last frame
+  double strand_area = 0;       // area of faces stretched beyond the strand threshold, last frame
+  int strand_faces = 0;
+  double peak_edge_stretch = 0;  // the largest max_edge_stretch of any frame, and that frame
+  int peak_edge_stretch_frame = 0;
+  double peak_strand_area = 0;
 };
 
 // crack_graphs[i]: the crack of one shell in its parameter plane.
@@ -60,6 +73,7 @@ struct CrackGraphReport {
 };
 
 struct Metrics {
+  MeshReport mesh;  // written at the top level of metrics
   double max_collider_penetration = 0, max_collider_penetration_cells = 0;
   double peak_kinetic_energy = 0, final_kinetic_energy = 0, max_plastic_strain = 0;
   std::optional<std::vector<InterfaceReport>> interfaces;

@@ -34,6 +34,8 @@ model::OutputSettings build_output(const Output& o) {
     out.resolution_u = (*o.resolution)[0];
     out.resolution_v = (*o.resolution)[1];
   }
+  out.triangulate = o.triangulate.value_or(false);
+  out.double_precision = o.precision == "double";
   return out;
 }
 

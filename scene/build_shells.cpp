@@ -110,6 +110,7 @@ model::Material material_of(const Material& m) {
   out.shear_stiffness = m.shear_stiffness;
   out.compression_stiffness = m.compression_stiffness;
   out.shear_friction = m.shear_friction.value_or(0.0);
+  out.strand_stretch = m.strand_stretch.value_or(out.strand_stretch);
   if (m.plasticity) {
     out.plasticity.enabled = true;
     out.plasticity.yield_stress = *m.plasticity->yield_stress;

@@ -112,6 +112,7 @@ void describe(V& v, Material& m) {
   v.number("shear_stiffness", m.shear_stiffness, Range::non_negative());
   v.number("compression_stiffness", m.compression_stiffness, Range::non_negative());
   v.number("shear_friction", m.shear_friction, Range::non_negative());
+  v.number("strand_stretch", m.strand_stretch, Range::left_open(1.0, 1e6));
   v.object("plasticity", m.plasticity);
   v.choice("transverse", m.transverse, {"condensed", "rigid"});
   v.choice("stress_model", m.stress_model, {"kirchhoff_love", "plane_strain", "2d_f", "2d_f_director"});
@@ -301,6 +302,8 @@ void describe(V& v, Output& o) {
   v.string("format", o.format);
   v.check("format", [&] { return o.format ? export_format_problem(*o.format) : std::string(); });
   v.integers("resolution", o.resolution, Range::closed(1, 4096));
+  v.boolean("triangulate", o.triangulate);
+  v.choice("precision", o.precision, {"float", "double"});
 }
 
 template <class V>

@@ -43,6 +43,9 @@ struct Material {
   // Type-III shearing/compression model (shell/shear_model.hpp); unset stiffnesses default to mu and E.
   std::optional<double> shear_stiffness, compression_stiffness;
   double shear_friction = 0.0;
+  // Render faces whose largest principal stretch against the rest mesh exceeds this are strands
+  // (metrics.strand_area, docs/cli.md).
+  double strand_stretch = 3.0;
   // Von Mises plasticity of the in-plane stress (metal sheets); enabled by a "plasticity" object.
   shell::PlasticityParams plasticity;
   // Thickness treatment of the Kirchhoff-Love in-plane stress (see shell/in_plane_stress.hpp).
@@ -169,6 +172,8 @@ struct OutputSettings {
   std::string format = "obj";  // an assimp export format id
   int resolution_u = 32;       // render quads per patch along u (independent of the simulation)
   int resolution_v = 32;       // ... and along v
+  bool triangulate = false;    // write triangles only (formats that need them are triangulated anyway)
+  bool double_precision = false;  // 17 significant digits where the format allows it
 };
 
 struct Model {

@@ -65,6 +65,7 @@ struct Material {
   Opt<double> youngs_modulus, poisson_ratio, density;  // keys E, nu, density
   Opt<std::string> transverse, stress_model;
   Opt<double> shear_stiffness, compression_stiffness, shear_friction;
+  Opt<double> strand_stretch;  // render faces stretched more than this count as strands (metrics)
   Opt<Plasticity> plasticity;
   Opt<Fracture> fracture;
 };
@@ -188,6 +189,8 @@ struct Time {
 struct Output {
   Opt<std::string> format;
   Opt<Int2> resolution;
+  Opt<bool> triangulate;
+  Opt<std::string> precision;  // "float", "double"
 };
 
 struct Grid {

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Installs the Debian packages shellfrac needs to build, test and benchmark.
+# Installs the Debian packages shellfrac needs to build, test, benchmark and preview.
 # Installs only what is missing; runs non-interactively; safe to run repeatedly.
 set -euo pipefail
 
@@ -16,6 +16,8 @@ packages=(
   libboost-dev           # Boost.Polygon Voronoi diagrams (crack2d)
   libceres-dev           # independent least-squares cross-check of the MLS fit (tests)
   gnuplot-nox            # benchmark charts
+  blender                # `shellfrac preview` and the Blender import tests (Cycles on the CPU)
+  python3                # drivers of the Blender tests (tests/blender/, standard library only)
 )
 
 missing=()

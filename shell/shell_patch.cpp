@@ -179,15 +179,25 @@ void ShellPatch::build_shear_particles() {
 
 ShellPatch::BasisView ShellPatch::slot_view(int32_t slot) const {
   const MlsSupport& m = slots_[static_cast<size_t>(slot)];
-  return {static_cast<int>(m.index.size()), m.index.data(), m.basis.data(), kBasisStride,
-          const_cast<Vec3*>(m.force.data())};
+  return {static_cast<int>(m.index.size()), m.index.data(), m.basis.data(), kBasisStride};
 }
 
 ShellPatch::BasisView ShellPatch::shear_basis(size_t c) const {
   const int32_t slot = shear_slot_[c];
   if (slot >= 0) return slot_view(slot);
-  return {support_size_, support(c), &shear.basis[c * static_cast<size_t>(support_size_ * kShearStride)], kShearStride,
-          const_cast<Vec3*>(&cell_force_[c * static_cast<size_t>(support_size_)])};
+  return {support_size_, support(c), &shear.basis[c * static_cast<size_t>(support_size_ * kShearStride)], kShearStride};
+}
+
+Vec3* ShellPatch::shear_force_target(size_t c) {
+  const int32_t slot = shear_slot_[c];
+  if (slot >= 0) return slots_[static_cast<size_t>(slot)].force.data();
+  return &cell_force_[c * static_cast<size_t>(support_size_)];
+}
+
+Vec3* ShellPatch::point_force_target(size_t q) {
+  const int32_t slot = point_slot_[q];
+  if (slot >= 0) return slots_[static_cast<size_t>(slot)].force.data();
+  return &cell_force_[cell_of(q) * static_cast<size_t>(support_size_)];
 }
 
 Vec3 ShellPatch::shear_particle_frame(size_t c, Vec3& a1, Vec3& a2) const {
@@ -235,8 +245,7 @@ ShellPatch::BasisView ShellPatch::point_basis(size_t q) const {
   const int32_t slot = point_slot_[q];
   if (slot >= 0) return slot_view(slot);
   const size_t c = cell_of(q);
-  return {support_size_, support(c), &basis_[q * static_cast<size_t>(support_size_) * kBasisStride], kBasisStride,
-          const_cast<Vec3*>(&cell_force_[c * static_cast<size_t>(support_size_)])};
+  return {support_size_, support(c), &basis_[q * static_cast<size_t>(support_size_) * kBasisStride], kBasisStride};
 }
 
 ForceFailure ShellPatch::compute_forces() {
@@ -265,6 +274,7 @@ ForceFailure ShellPatch::compute_forces() {
       for (size_t q = c * points_per_cell_; q < (c + 1) * points_per_cell_; ++q) {
         if (point_slot_[q] == kMlsFailed) continue;  // singular MLS support: dropped and reported
         const BasisView b = point_basis(q);
+        Vec3* force = point_force_target(q);
         pts.resize(static_cast<size_t>(b.n));
         for (int s = 0; s < b.n; ++s) pts[static_cast<size_t>(s)] = &x[static_cast<size_t>(b.index[s])];
         const SurfaceJet jet = surface_jet(pts.data(), b.basis + 1, b.n, kBasisStride);
@@ -313,7 +323,7 @@ ForceFailure ShellPatch::compute_forces() {
         const JetGradient gr = kl_basis_adjoint(jet, nj, K1, K2, C1, C2, Vec3::Zero());
         for (int s = 0; s < b.n; ++s) {
           const double* ds = b.basis + s * kBasisStride;
-          b.force[s] -= ds[1] * gr.a1 + ds[2] * gr.a2 + ds[3] * gr.a11 + ds[4] * gr.a12 + ds[5] * gr.a22;
+          force[s] -= ds[1] * gr.a1 + ds[2] * gr.a2 + ds[3] * gr.a11 + ds[4] * gr.a12 + ds[5] * gr.a22;
         }
       }
       if (!cell_failed[c] && !add_shear_force(c)) cell_failed[c] = 2;
@@ -366,7 +376,8 @@ bool ShellPatch::add_shear_force(size_t c) {
   // dPsi/dd = V P D^-T: columns 1, 2 act on the tangents (control points), column 3 on the director
   // (through the grid velocity gradient that advects it).
   const Mat3 G = shear.volume[c] * shear_pk1(F, material_.shear) * Dinv.transpose();
-  for (int s = 0; s < b.n; ++s) b.force[s] -= b.basis[s * b.stride + 1] * G.col(0) + b.basis[s * b.stride + 2] * G.col(1);
+  Vec3* force = shear_force_target(c);
+  for (int s = 0; s < b.n; ++s) force[s] -= b.basis[s * b.stride + 1] * G.col(0) + b.basis[s * b.stride + 2] * G.col(1);
   shear.stress[c] = G.col(2) * d3.transpose();
   return true;
 }

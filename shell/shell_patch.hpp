@@ -194,17 +194,19 @@ class ShellPatch {
     const int* index;
     const double* basis;
     int stride;
-    Vec3* force;
   };
   static constexpr int32_t kMlsFailed = -2;
   static constexpr int kBasisStride = 6;  // R, R_1, R_2, R_11, R_12, R_22 per support control point
   static constexpr int kShearStride = 3;  // R, R_1, R_2 per support control point of a NURBS shear particle
-  // const: the force target they expose is written only by compute_forces.
   BasisView point_basis(size_t q) const;
   BasisView slot_view(int32_t slot) const;
   // Mid-surface jet of in-plane point q from its NURBS or MLS basis (pts: scratch).
   SurfaceJet point_jet(size_t q, std::vector<const Vec3*>& pts) const;
   BasisView shear_basis(size_t c) const;
+  // Where the forces of in-plane point q (shear particle c) on its support control points are gathered:
+  // its cell's slots, or its MLS support's own (written by compute_forces only).
+  Vec3* point_force_target(size_t q);
+  Vec3* shear_force_target(size_t c);
   // Type III force of cell c on its support control points and its grid stress term.
   bool add_shear_force(size_t c);
   // MLS basis of one point (stride 6: R, R_1, R_2, R_11, R_12, R_22 per support control point) and

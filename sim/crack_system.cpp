@@ -41,10 +41,9 @@ CrackSystem::CrackSystem(const scene::Model& model, World& world, double grid_dx
   cracks_.resize(world.num_shells());
   damaged_count_.assign(world.num_shells(), 0);
   coupled_patch_.assign(world.num_shells(), 0);
-  for (const scene::model::InterfaceSpec& spec : model.interfaces)
-    if (spec.coupled)
-      coupled_patch_[static_cast<size_t>(spec.coupling.leader_patch)] =
-          coupled_patch_[static_cast<size_t>(spec.coupling.follower_patch)] = 1;
+  for (const scene::model::InterfaceSpec& spec : model.interfaces)  // every one coupled ("none" seams are apart)
+    coupled_patch_[static_cast<size_t>(spec.coupling.leader_patch)] =
+        coupled_patch_[static_cast<size_t>(spec.coupling.follower_patch)] = 1;
   // Characteristic length of the damage law: l_ch = sqrt(3 h^2) with h the grid spacing (sec. 2.3.1).
   const double l_ch = std::sqrt(3.0) * grid_dx;
   for (size_t i = 0; i < world.num_shells(); ++i) {

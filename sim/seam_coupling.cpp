@@ -171,7 +171,6 @@ void SeamSystem::project_rows(World& world, const mpm::SparseGrid& grid, size_t 
 void SeamSystem::couple(World& world, const mpm::SparseGrid& grid, double dt) {
   for (size_t i = 0; i < model_.interfaces.size(); ++i) {
     const scene::model::InterfaceSpec& spec = model_.interfaces[i];
-    if (!spec.coupled) continue;
     if (seams_[i].projection) project_rows(world, grid, i, dt);
     const coupling::Interface& c = seams_[i].cut ? *seams_[i].cut : spec.coupling;
     const shell::ShellPatch& leader = world.shell(static_cast<size_t>(c.leader_patch));
@@ -203,7 +202,7 @@ void SeamSystem::couple(World& world, const mpm::SparseGrid& grid, double dt) {
   // once more, in order, from its leader's final state.
   for (size_t i = 0; i < model_.interfaces.size(); ++i) {
     const scene::model::InterfaceSpec& spec = model_.interfaces[i];
-    if (!spec.coupled || !seams_[i].shares_points) continue;
+    if (!seams_[i].shares_points) continue;
     const coupling::Interface& c = seams_[i].cut ? *seams_[i].cut : spec.coupling;
     const shell::ShellPatch& leader = world.shell(static_cast<size_t>(c.leader_patch));
     shell::ShellPatch& follower = world.shell(static_cast<size_t>(c.follower_patch));

@@ -95,7 +95,6 @@ SeamSystem::SeamSystem(const scene::Model& model, const World& world) : model_(m
 void SeamSystem::update_cracks(World& world, CrackSystem& cracks) {
   for (size_t i = 0; i < model_.interfaces.size(); ++i) {
     const scene::model::InterfaceSpec& spec = model_.interfaces[i];
-    if (!spec.coupled) continue;
     const coupling::Interface& c = spec.coupling;
     const size_t patch[2] = {static_cast<size_t>(c.leader_patch), static_cast<size_t>(c.follower_patch)};
     const SeamSide side[2] = {leader_side(model_, c), follower_side(model_, c)};
@@ -156,7 +155,7 @@ bool SeamSystem::connected(const World& world, size_t patch_a, const Eigen::Vect
     const scene::model::InterfaceSpec& spec = model_.interfaces[i];
     const coupling::Interface& c = spec.coupling;
     const auto l = static_cast<size_t>(c.leader_patch), f = static_cast<size_t>(c.follower_patch);
-    if (!spec.coupled || !((l == patch_a && f == patch_b) || (l == patch_b && f == patch_a))) continue;
+    if (!((l == patch_a && f == patch_b) || (l == patch_b && f == patch_a))) continue;
     const SeamSide sa = l == patch_a ? leader_side(model_, c) : follower_side(model_, c);
     const SeamSide sb = l == patch_a ? follower_side(model_, c) : leader_side(model_, c);
     const coupling::SeamCoordinate ca = seam_of(sa, uv_a), cb = seam_of(sb, uv_b);

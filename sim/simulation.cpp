@@ -7,7 +7,6 @@
 #include <sstream>
 
 #include "core/format.hpp"
-#include "core/union_find.hpp"
 #include "scene/build.hpp"
 #include "scene/scene_error.hpp"
 
@@ -268,39 +267,6 @@ void Simulation::check_finite() const {
       throw NumericalError(os.str());
     }
   }
-}
-
-size_t Simulation::body_fragments() const {
-  // Union-find over every shell control point: neighbours on a patch's control grid are joined unless
-  // a crack separates their parameter points; across a coupled seam each follower edge point joins the
-  // leader points its (cut) operator row still uses.
-  std::vector<size_t> offset(world_.num_shells() + 1, 0);
-  for (size_t i = 0; i < world_.num_shells(); ++i) offset[i + 1] = offset[i] + world_.shell(i).x.size();
-  core::UnionFind sets(offset.back());
-  for (size_t i = 0; i < world_.num_shells(); ++i) {
-    const shell::ShellPatch& p = world_.shell(i);
-    const int nu = p.reference().num_u(), nv = p.reference().num_v();
-    auto link = [&](int a, int b) {
-      const auto ka = static_cast<size_t>(a), kb = static_cast<size_t>(b);
-      if (!p.crack() || !p.crack()->crosses(p.control_parameter(ka), p.control_parameter(kb)))
-        sets.unite(offset[i] + ka, offset[i] + kb);
-    };
-    for (int j = 0; j < nv; ++j)
-      for (int u = 0; u < nu; ++u) {
-        if (u + 1 < nu) link(u + nu * j, u + 1 + nu * j);
-        if (j + 1 < nv) link(u + nu * j, u + nu * (j + 1));
-      }
-  }
-  for (size_t i = 0; i < model_.interfaces.size(); ++i) {
-    if (!model_.interfaces[i].coupled) continue;
-    const coupling::Interface& c = seams_.operators(i);
-    const size_t lo = offset[static_cast<size_t>(c.leader_patch)], fo = offset[static_cast<size_t>(c.follower_patch)];
-    for (size_t k = 0; k < c.follower_row1.size(); ++k)
-      for (size_t j = 0; j < c.leader_row1.size(); ++j)
-        if (c.M0(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(j)) != 0.0)
-          sets.unite(fo + static_cast<size_t>(c.follower_row1[k]), lo + static_cast<size_t>(c.leader_row1[j]));
-  }
-  return sets.count_sets();
 }
 
 }  // namespace shellfrac::sim

@@ -86,10 +86,6 @@ class Simulation {
   size_t released_seam_points(size_t i) const { return seams_.released_points(i); }
   // Seam coordinates (leader edge parameter in [0, 1]) where cracks meet the seam of interface i.
   const std::vector<double>& seam_cracks(size_t i) const { return seams_.crack_positions(i); }
-  // Pieces of material: shell control points joined through their patch's control grid where no crack
-  // separates them, and across coupled seams through the coupling operators. A garment torn in two is
-  // 2, however many patches each half has; separate, uncoupled shells count once each.
-  size_t body_fragments() const;
 
  private:
   // The stages of step(), in order (thesis sec. 4.3.2).

@@ -18,6 +18,7 @@ Command add_run_command(CLI::App& app);
 Command add_validate_command(CLI::App& app);
 Command add_verify_command(CLI::App& app);
 Command add_bench_command(CLI::App& app);
+Command add_preview_command(CLI::App& app);  // preview_command.hpp
 
 // Runs `body` and returns its exit code; any exception is printed to stderr ("error: ..." or
 // "numerical failure: ...") and mapped to the exit code of its kind (core::exit_code_for: 2 bad input,

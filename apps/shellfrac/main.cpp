@@ -1,4 +1,4 @@
-// shellfrac command-line tool: run, validate, verify coupling, and benchmark scene files.
+// shellfrac command-line tool: run, validate, verify coupling, benchmark scene files, preview runs.
 // Exit codes (core/exit_code.hpp): 0 success, 2 bad input, 3 numerical failure, 4 a verify check
 // failed, 1 anything else.
 #include <CLI/CLI.hpp>
@@ -17,7 +17,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("shellfrac ") + kVersion);
   app.require_subcommand(1);
   const std::vector<app::Command> commands = {app::add_run_command(app), app::add_validate_command(app),
-                                              app::add_verify_command(app), app::add_bench_command(app)};
+                                              app::add_verify_command(app), app::add_bench_command(app),
+                                              app::add_preview_command(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

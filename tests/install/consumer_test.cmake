@@ -1,0 +1,20 @@
+# Run by ctest: install the build into WORK_DIR/prefix, build examples/consumer against it, run it.
+file(REMOVE_RECURSE ${WORK_DIR})
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT status EQUAL 0)
+    message(FATAL_ERROR "failed (${status}): ${ARGN}\n${out}\n${err}")
+  endif()
+  message(STATUS "${out}")
+endfunction()
+run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${WORK_DIR}/prefix)
+# The consumer must not see the source tree: only the installed headers.
+if(EXISTS ${WORK_DIR}/prefix/include/shellfrac/sim/simulation.hpp AND EXISTS ${WORK_DIR}/prefix/include/shellfrac/core/version.hpp)
+  message(STATUS "headers installed under include/shellfrac")
+else()
+  message(FATAL_ERROR "the headers are not under ${WORK_DIR}/prefix/include/shellfrac")
+endif()
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/consumer -B ${WORK_DIR}/consumer -DCMAKE_BUILD_TYPE=Release
+    -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix)
+run(${CMAKE_COMMAND} --build ${WORK_DIR}/consumer -j 2)
+run(${WORK_DIR}/consumer/drop_sheet)
