@@ -10,9 +10,6 @@ namespace shellfrac::shell {
 
 namespace {
 
-using Vec6 = Eigen::Matrix<double, 6, 1>;
-using Mat6 = Eigen::Matrix<double, 6, 6>;
-
 std::string fmt(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.6g", x);
@@ -94,29 +91,15 @@ bool check_mls_inputs(const Eigen::Vector2d& xi, double cell_u, double cell_v, c
 // complete polynomial basis, so R_k and its derivatives are the same as with p(xi) of thesis Eq. 4.16, while
 // the moment matrix entries stay O(1) even for cells 0.01 wide (p(xi) itself would give entries spanning
 // 1 .. 1e-8 and a useless condition number). The centre is held fixed while differentiating.
-//
-// With A = sum_k W_k q_k q_k^T (Eq. 4.17, q_k = p(eta_k)) and gamma = A^-1 p(eta) (A is symmetric),
-// R_k = W_k q_k . gamma is Eq. 4.16. Differentiating A gamma = p gives
-//   A gamma_a  = p_a  - A_a gamma,
-//   A gamma_ab = p_ab - A_a gamma_b - A_b gamma_a - A_ab gamma,
-// which is Eq. 4.20/4.21 with the A^-1 derivatives expanded, but needs only three 6x6 solves per derivative
-// order with one Cholesky factor of A, and never forms A_a or A_ab (A_a gamma = sum_k W_k,a (q_k . gamma) q_k).
 MlsAttempt mls_evaluate(const Eigen::Vector2d& xi, double d_u, double d_v, const MlsSettings& settings,
                         MlsBasis& out) {
   MlsBasis::Workspace& w = out.work;
   const std::size_t n = w.index.size();
-  w.W.resize(n);
-  w.W1.resize(n);
-  w.W2.resize(n);
-  w.W11.resize(n);
-  w.W12.resize(n);
-  w.W22.resize(n);
-  w.q.resize(6 * n);
-  out.index.clear();
-
+  for (auto* a : {&w.W, &w.W1, &w.W2, &w.W11, &w.W12, &w.W22, &w.e1, &w.e2}) a->resize(n);
+  w.support.resize(n);
   // Weights (Eq. 4.18 in tensor-product form) and their derivatives in scaled coordinates y = xi / d;
-  // candidates with W = 0 are dropped, so the arrays are compacted to the m support points.
-  Mat6 A = Mat6::Zero();  // thesis Eq. 4.17
+  // candidates with W = 0 are dropped, so the arrays are compacted to the m support points. The candidate
+  // list itself (index, pu, pv) is kept: a larger support adds to it.
   std::size_t m = 0;
   for (std::size_t c = 0; c < n; ++c) {
     const double e1 = (w.pu[c] - xi.x()) / d_u;  // local coordinate of the control point
@@ -134,25 +117,54 @@ MlsAttempt mls_evaluate(const Eigen::Vector2d& xi, double d_u, double d_v, const
     w.W11[m] = a.ddw * b.w;
     w.W12[m] = a.dw * s1 * b.dw * s2;
     w.W22[m] = a.w * b.ddw;
-    Eigen::Map<Vec6> q(&w.q[6 * m]);
-    q << 1.0, e1, e2, e1 * e1, e1 * e2, e2 * e2;  // thesis Eq. 4.16 basis in local coordinates
-    A.noalias() += W * q * q.transpose();
-    out.index.push_back(w.index[c]);
+    w.e1[m] = e1;
+    w.e2[m] = e2;
+    w.support[m] = w.index[c];
     ++m;
+  }
+  return mls_solve(m, d_u, d_v, settings, out);
+}
+
+namespace {
+
+// With A = sum_k W_k q_k q_k^T (Eq. 4.17, q_k = p(eta_k)) and gamma = A^-1 p(eta) (A is symmetric),
+// R_k = W_k q_k . gamma is Eq. 4.16. Differentiating A gamma = p gives
+//   A gamma_a  = p_a  - A_a gamma,
+//   A gamma_ab = p_ab - A_a gamma_b - A_b gamma_a - A_ab gamma,
+// which is Eq. 4.20/4.21 with the A^-1 derivatives expanded, but needs only three NxN solves per derivative
+// order with one Cholesky factor of A, and never forms A_a or A_ab (A_a gamma = sum_k W_k,a (q_k . gamma) q_k).
+// N = 6: the quadratic basis of Eq. 4.16; N = 3: the linear basis (p_ab = 0).
+template <int N>
+MlsAttempt solve_order(std::size_t m, double d_u, double d_v, const MlsSettings& settings, MlsBasis& out) {
+  using VecN = Eigen::Matrix<double, N, 1>;
+  using MatN = Eigen::Matrix<double, N, N>;
+  MlsBasis::Workspace& w = out.work;
+  w.q.resize(static_cast<std::size_t>(N) * m);
+  out.index.assign(w.support.begin(), w.support.begin() + static_cast<std::ptrdiff_t>(m));
+  MatN A = MatN::Zero();  // thesis Eq. 4.17
+  for (std::size_t k = 0; k < m; ++k) {
+    Eigen::Map<VecN> q(&w.q[N * k]);
+    const double e1 = w.e1[k], e2 = w.e2[k];
+    if constexpr (N == 6) {
+      q << 1.0, e1, e2, e1 * e1, e1 * e2, e2 * e2;  // thesis Eq. 4.16 basis in local coordinates
+    } else {
+      q << 1.0, e1, e2;
+    }
+    A.noalias() += w.W[k] * q * q.transpose();
   }
 
   MlsAttempt attempt;
   attempt.neighbours = static_cast<int>(m);
-  if (attempt.neighbours < settings.min_neighbours || m < 6) {
+  if (attempt.neighbours < settings.min_neighbours || m < static_cast<std::size_t>(N)) {
     attempt.status = MlsStatus::too_few_neighbours;
     out.index.clear();
     return attempt;
   }
   // Conditioning is judged on the Jacobi-equilibrated matrix D^-1/2 A D^-1/2: the quadratic moments are
   // naturally ~50x smaller than the zeroth one, which says nothing about the geometry of the support.
-  const Vec6 diag_scale = A.diagonal().cwiseMax(std::numeric_limits<double>::min()).cwiseSqrt().cwiseInverse();
-  const Mat6 A_eq = diag_scale.asDiagonal() * A * diag_scale.asDiagonal();
-  const Eigen::LLT<Mat6> llt_eq(A_eq);
+  const VecN diag_scale = A.diagonal().cwiseMax(std::numeric_limits<double>::min()).cwiseSqrt().cwiseInverse();
+  const MatN A_eq = diag_scale.asDiagonal() * A * diag_scale.asDiagonal();
+  const Eigen::LLT<MatN> llt_eq(A_eq);
   attempt.rcond = llt_eq.info() == Eigen::Success ? llt_eq.rcond() : 0.0;
   out.rcond = attempt.rcond;
   if (!(attempt.rcond >= settings.min_rcond) || !(attempt.rcond > 0.0)) {
@@ -162,44 +174,44 @@ MlsAttempt mls_evaluate(const Eigen::Vector2d& xi, double d_u, double d_v, const
   }
   // Solve with A itself: its Cholesky residuals are what the reproduction identities (sum R q = p, ...)
   // depend on, and they came out smaller than solving through the equilibrated factor.
-  const Eigen::LLT<Mat6> A_llt(A);
-  const auto solve = [&](const Vec6& b) -> Vec6 { return A_llt.solve(b); };
+  const Eigen::LLT<MatN> A_llt(A);
+  const auto solve = [&](const VecN& b) -> VecN { return A_llt.solve(b); };
 
   // p and its derivatives at the evaluation point (eta = 0).
-  const Vec6 gamma = solve(Vec6::Unit(0));
-  Vec6 rhs1 = Vec6::Unit(1), rhs2 = Vec6::Unit(2);
+  const VecN gamma = solve(VecN::Unit(0));
+  VecN rhs1 = VecN::Unit(1), rhs2 = VecN::Unit(2);
   for (std::size_t k = 0; k < m; ++k) {
-    const Eigen::Map<const Vec6> q(&w.q[6 * k]);
+    const Eigen::Map<const VecN> q(&w.q[N * k]);
     const double t = q.dot(gamma);
     rhs1.noalias() -= (w.W1[k] * t) * q;
     rhs2.noalias() -= (w.W2[k] * t) * q;
   }
-  const Vec6 gamma1 = solve(rhs1);
-  const Vec6 gamma2 = solve(rhs2);
+  const VecN gamma1 = solve(rhs1);
+  const VecN gamma2 = solve(rhs2);
 
-  Vec6 rhs11 = 2.0 * Vec6::Unit(3), rhs12 = Vec6::Unit(4), rhs22 = 2.0 * Vec6::Unit(5);
+  VecN rhs11 = VecN::Zero(), rhs12 = VecN::Zero(), rhs22 = VecN::Zero();
+  if constexpr (N == 6) {
+    rhs11(3) = 2.0;
+    rhs12(4) = 1.0;
+    rhs22(5) = 2.0;
+  }
   for (std::size_t k = 0; k < m; ++k) {
-    const Eigen::Map<const Vec6> q(&w.q[6 * k]);
+    const Eigen::Map<const VecN> q(&w.q[N * k]);
     const double t = q.dot(gamma), t1 = q.dot(gamma1), t2 = q.dot(gamma2);
     rhs11.noalias() -= (2.0 * w.W1[k] * t1 + w.W11[k] * t) * q;
     rhs12.noalias() -= (w.W1[k] * t2 + w.W2[k] * t1 + w.W12[k] * t) * q;
     rhs22.noalias() -= (2.0 * w.W2[k] * t2 + w.W22[k] * t) * q;
   }
-  const Vec6 gamma11 = solve(rhs11);
-  const Vec6 gamma12 = solve(rhs12);
-  const Vec6 gamma22 = solve(rhs22);
+  const VecN gamma11 = solve(rhs11);
+  const VecN gamma12 = solve(rhs12);
+  const VecN gamma22 = solve(rhs22);
 
-  out.R.resize(m);
-  out.R1.resize(m);
-  out.R2.resize(m);
-  out.R11.resize(m);
-  out.R12.resize(m);
-  out.R22.resize(m);
+  for (auto* a : {&out.R, &out.R1, &out.R2, &out.R11, &out.R12, &out.R22}) a->resize(m);
   // Chain rule back to parameter coordinates: d/dxi_a = (1/d_a) d/dy_a.
   const double iu = 1.0 / d_u, iv = 1.0 / d_v;
   double check = 0.0;
   for (std::size_t k = 0; k < m; ++k) {
-    const Eigen::Map<const Vec6> q(&w.q[6 * k]);
+    const Eigen::Map<const VecN> q(&w.q[N * k]);
     const double t = q.dot(gamma), t1 = q.dot(gamma1), t2 = q.dot(gamma2);
     const double W = w.W[k], W1 = w.W1[k], W2 = w.W2[k];
     out.R[k] = W * t;                                                               // thesis Eq. 4.16
@@ -221,6 +233,13 @@ MlsAttempt mls_evaluate(const Eigen::Vector2d& xi, double d_u, double d_v, const
   return attempt;
 }
 
+}  // namespace
+
+MlsAttempt mls_solve(std::size_t m, double d_u, double d_v, const MlsSettings& settings, MlsBasis& out) {
+  return settings.order >= 2 ? solve_order<6>(m, d_u, d_v, settings, out)
+                             : solve_order<3>(m, d_u, d_v, settings, out);
+}
+
 void report_mls_failure(const Eigen::Vector2d& xi, const MlsAttempt& attempt, const MlsSettings& settings,
                         MlsBasis& out) {
   const std::string where = "MLS basis at (" + fmt(xi.x()) + ", " + fmt(xi.y()) + "): ";
@@ -228,7 +247,7 @@ void report_mls_failure(const Eigen::Vector2d& xi, const MlsAttempt& attempt, co
     fail(out, attempt.status,
          where + "only " + std::to_string(attempt.neighbours) + " visible control points with weight > 0 at the " +
              "maximum support factor " + fmt(settings.max_factor) + " (need " +
-             std::to_string(std::max(settings.min_neighbours, 6)) + ")");
+             std::to_string(std::max(settings.min_neighbours, basis_terms(settings.order))) + ")");
   } else {
     fail(out, attempt.status,
          where + "moment matrix is singular or ill-conditioned at the maximum support factor " +

@@ -24,6 +24,10 @@ struct MlsSettings {
   // derivatives with large cancelling terms; 1e-3 keeps quadratic reproduction errors below ~3e-10 in
   // cell-scaled units (l^2 d2R) and leaves interior 4x4 Gauss points at 1.5 l (docs/mls.md).
   double min_rcond = 1e-3;
+  // Polynomial order of the basis: 2 is the complete quadratic of thesis Eq. 4.16 (6 terms), 1 the linear
+  // basis [1, x1, x2] (3 terms) of the shell's fallback for points that see too few control points. A
+  // linear basis reproduces first derivatives only; its second derivatives carry no curvature (docs/mls.md).
+  int order = 2;
 };
 
 enum class MlsStatus {
@@ -52,7 +56,9 @@ struct MlsBasis {
     std::vector<int> index;
     std::vector<double> pu, pv;                  // parameter coordinates of visible candidates
     std::vector<double> W, W1, W2, W11, W12, W22;  // weight and its derivatives (scaled coordinates)
-    std::vector<double> q;                       // 6 local basis values per point
+    std::vector<int> support;                    // control point of each support point (compacted)
+    std::vector<double> e1, e2;                  // local coordinates of the support points (compacted)
+    std::vector<double> q;                       // local basis values per point (6 or 3)
   } work;
 };
 
@@ -130,10 +136,20 @@ struct MlsAttempt {
 bool check_mls_inputs(const Eigen::Vector2d& xi, double cell_u, double cell_v, const MlsSettings& settings,
                       MlsBasis& out);
 
-// Builds the basis from the visible candidates gathered in out.work at support sizes d_u, d_v.
-// Fills out's result arrays only when the returned status is ok.
+// Builds the basis from the visible candidates gathered in out.work at support sizes d_u, d_v, with the
+// tensor-product weight of thesis Eq. 4.18. Fills out's result arrays only when the returned status is ok.
 MlsAttempt mls_evaluate(const Eigen::Vector2d& xi, double d_u, double d_v, const MlsSettings& settings,
                         MlsBasis& out);
+
+// The MLS solve itself (Eq. 4.16-4.21) for m support points whose weights are already in out.work:
+// support[k], W, W1, W2, W11, W12, W22 (derivatives with respect to the evaluation point in the scaled
+// coordinates y = xi / d) and local coordinates e1, e2 = (xi_k - xi) / d, for k < m. Any non-negative
+// weight works: the basis reproduces the polynomial basis whatever the weights (used by the fragment
+// fallback's path-length weights, shell/fragment_basis.hpp). Order and acceptance from settings.
+MlsAttempt mls_solve(std::size_t m, double d_u, double d_v, const MlsSettings& settings, MlsBasis& out);
+
+// Number of terms of the polynomial basis of `order` (6 for quadratic, 3 for linear).
+inline int basis_terms(int order) { return order >= 2 ? 6 : 3; }
 
 // Fills out's status and reason after the attempt at the largest factor failed.
 void report_mls_failure(const Eigen::Vector2d& xi, const MlsAttempt& attempt, const MlsSettings& settings,

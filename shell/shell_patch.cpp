@@ -203,7 +203,7 @@ Vec3* ShellPatch::point_force_target(size_t q) {
 Vec3 ShellPatch::shear_particle_frame(size_t c, Vec3& a1, Vec3& a2) const {
   // thesis Eq. 4.10 with the NURBS basis, or the MLS basis near a crack (sec. 4.6)
   const BasisView b = shear_basis(c);
-  Vec3 pos = Vec3::Zero();
+  Vec3 pos = shear_slot_[c] >= 0 ? slots_[static_cast<size_t>(shear_slot_[c])].rigid_offset : Vec3::Zero();
   a1.setZero();
   a2.setZero();
   for (int s = 0; s < b.n; ++s) {
@@ -217,6 +217,7 @@ Vec3 ShellPatch::shear_particle_frame(size_t c, Vec3& a1, Vec3& a2) const {
 }
 
 Mat3 ShellPatch::director_r(size_t c) const {
+  if (shear_level(c) >= BasisLevel::Rigid) return Mat3::Identity();  // no tangents: unstrained
   Vec3 a1, a2;
   shear_particle_frame(c, a1, a2);
   Mat3 d;
@@ -231,8 +232,16 @@ double ShellPatch::director_stretch(size_t c) const { return director_r(c)(2, 2)
 void ShellPatch::update_shear_particles(double dt) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, num_cells_, 64), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t c = r.begin(); c != r.end(); ++c) {
+      const BasisLevel level = shear_level(c);
+      // A particle in a fragment without control points carries its mass on with its grid velocity; one in
+      // a rigid sliver follows the sliver's control points. Neither has tangents: the director is kept.
+      if (level == BasisLevel::Removed) {
+        shear.x[c] += dt * shear.v[c];
+        continue;
+      }
       Vec3 a1, a2;
       shear.x[c] = shear_particle_frame(c, a1, a2);  // thesis Eq. 4.10
+      if (level == BasisLevel::Rigid) continue;
       const Vec3 d3 = shear.director[c] + dt * (shear.velocity_gradient[c] * shear.director[c]);
       Mat3 d;
       d << a1, a2, d3;
@@ -272,7 +281,12 @@ ForceFailure ShellPatch::compute_forces() {
       for (int s = 0; s < support_size_; ++s) cell_out[s].setZero();
       const double r33 = with_director ? director_stretch(c) : 1.0;  // Jiang 2017: J = J_2D r_33
       for (size_t q = c * points_per_cell_; q < (c + 1) * points_per_cell_; ++q) {
-        if (point_slot_[q] == kMlsFailed) continue;  // singular MLS support: dropped and reported
+        // Fallback levels (docs/mls.md): a rigid or removed sliver carries no stress; a linear basis has
+        // no curvature, so every layer sees the mid-surface metric (membrane only).
+        const int32_t slot = point_slot_[q];
+        const MlsSupport* ms = slot >= 0 ? &slots_[static_cast<size_t>(slot)] : nullptr;
+        if (ms && ms->level >= BasisLevel::Rigid) continue;
+        const bool membrane = mid_surface || (ms && ms->order == 1);
         const BasisView b = point_basis(q);
         Vec3* force = point_force_target(q);
         pts.resize(static_cast<size_t>(b.n));
@@ -287,9 +301,10 @@ ForceFailure ShellPatch::compute_forces() {
         // g_3 component, so dPsi/dg_3 = 0 (thesis Eq. 4.14).
         Vec3 K1 = Vec3::Zero(), K2 = Vec3::Zero(), C1 = Vec3::Zero(), C2 = Vec3::Zero();
         for (size_t l = 0; l < L; ++l) {
-          // The 2D mid-surface model sees the mid-surface metric at every layer (no bending).
-          const double xi3 = mid_surface ? 0.0 : layers_.xi3[l];
-          const ReferenceLayer& ref = ref_[q * L + (mid_surface ? L / 2 : l)];
+          // The 2D mid-surface model sees the mid-surface metric at every layer (no bending); so does a
+          // membrane-only point, against the mid-surface rest metric (its own layer's when plastic).
+          const double xi3 = membrane ? 0.0 : layers_.xi3[l];
+          const ReferenceLayer& ref = ref_[q * L + (mid_surface || (membrane && !plastic) ? L / 2 : l)];
           const Vec3 g1 = jet.a1 + xi3 * nj.dn1, g2 = jet.a2 + xi3 * nj.dn2;
           // Plastic materials: return-map the current (trial) state first; it needs the same kinematics.
           if (plastic)
@@ -360,7 +375,7 @@ ForceFailure ShellPatch::compute_forces() {
 }
 
 bool ShellPatch::add_shear_force(size_t c) {
-  if (shear_slot_[c] == kMlsFailed) {  // singular MLS support near a crack: dropped and reported
+  if (shear_level(c) >= BasisLevel::Rigid) {  // a sliver without tangents carries no stress
     shear.stress[c].setZero();
     return true;
   }
@@ -435,7 +450,8 @@ double ShellPatch::elastic_energy() const {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, param_.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
     std::vector<const Vec3*> pts;
     for (size_t q = r.begin(); q != r.end(); ++q) {
-      if (point_slot_[q] == kMlsFailed) continue;
+      if (point_level(q) >= BasisLevel::Rigid) continue;  // no stress, no energy
+      const bool membrane = point_slot_[q] >= 0 && slots_[static_cast<size_t>(point_slot_[q])].order == 1;
       const SurfaceJet jet = point_jet(q, pts);
       NormalJet nj;
       if (!normal_jet(jet, nj)) {
@@ -445,16 +461,18 @@ double ShellPatch::elastic_energy() const {
       // Plane strain and the 2D model have lambda_3 = 1 (the rigid energy); the KL projection changes the
       // stress, not the energy, so only the condensed default is an exact gradient of its energy.
       const bool with_director = material_.stress_model == StressModel::DirectorF2D;
-      const bool mid_surface = material_.stress_model == StressModel::MidSurface2D || with_director;
+      const bool mid_surface = material_.stress_model == StressModel::MidSurface2D || with_director || membrane;
+      const bool plastic = material_.plasticity.enabled;
       const TransverseModel model = material_.stress_model == StressModel::KirchhoffLove ? material_.transverse
                                     : with_director ? TransverseModel::Given
                                                     : TransverseModel::Rigid;
       const double r33 = with_director ? director_stretch(cell_of(q)) : 1.0;
       for (size_t l = 0; l < L; ++l) {
         const double xi3 = mid_surface ? 0.0 : layers_.xi3[l];
+        const bool mid_ref = (mid_surface && !membrane) || (membrane && !plastic);
         per_point[q] += volume_[q * L + l] *
                         neo_hookean_in_plane_energy(jet.a1 + xi3 * nj.dn1, jet.a2 + xi3 * nj.dn2,
-                                                    ref_[q * L + (mid_surface ? L / 2 : l)], material_.mu,
+                                                    ref_[q * L + (mid_ref ? L / 2 : l)], material_.mu,
                                                     material_.lambda, model, r33);
       }
     }
@@ -472,7 +490,7 @@ std::vector<double> ShellPatch::mid_surface_stress() const {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, param_.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
     std::vector<const Vec3*> pts;
     for (size_t q = r.begin(); q != r.end(); ++q) {
-      if (point_slot_[q] == kMlsFailed) continue;
+      if (point_level(q) >= BasisLevel::Rigid) continue;
       const SurfaceJet jet = point_jet(q, pts);
       const InPlaneStress st = neo_hookean_in_plane(jet.a1, jet.a2, ref_[q * L + L / 2], material_.mu, material_.lambda,
                                                     material_.transverse);

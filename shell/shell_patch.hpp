@@ -1,6 +1,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -9,6 +10,8 @@
 #include "shell/damage.hpp"
 #include "shell/in_plane_stress.hpp"
 #include "shell/kinematics.hpp"
+#include "crack2d/crack_paths.hpp"
+#include "shell/basis_chain.hpp"
 #include "shell/mls_basis.hpp"
 #include "shell/plasticity.hpp"
 #include "shell/quadrature.hpp"
@@ -56,13 +59,32 @@ struct ShearParticles {
   std::vector<double> basis;           // per particle: support x {R, R_1, R_2}
 };
 
+// Which basis every point of a patch uses (shell/basis_chain.hpp, docs/mls.md "Fallback chain").
+struct BasisCensus {
+  std::array<size_t, kNumBasisLevels> points{};  // in-plane quadrature points per BasisLevel
+  std::array<size_t, kNumBasisLevels> shear{};   // shear particles per BasisLevel
+  size_t nudged = 0;         // points (either kind) that lay exactly on a crack line
+  size_t membrane_only = 0;  // in-plane points with a linear basis: membrane stress, no bending
+  // Points left without a basis although their fragment spans a plane (the chain failed; they are
+  // treated as Rigid). Material without a basis: 0 unless something is wrong.
+  size_t failures = 0;
+  // Material of the in-plane points at levels Rigid and Removed: it carries no stress. Area = sum V_q /
+  // thickness, mass = density * sum V_q. Its mass is not lost: it was lumped onto control points and
+  // shear particles when the patch was built and stays there.
+  double rigid_area = 0, rigid_mass = 0;
+  double removed_area = 0, removed_mass = 0;
+  size_t slivers() const { return points[static_cast<size_t>(BasisLevel::Rigid)] + points[static_cast<size_t>(BasisLevel::Removed)]; }
+};
+
 // What one crack update changed (thesis sec. 4.6: bases are rebuilt only where new segments touch).
 struct CrackUpdate {
   size_t examined = 0;     // points whose support new crack segments touch
-  size_t mls_points = 0;   // in-plane points with an MLS basis after the update
+  size_t mls_points = 0;   // in-plane points with an MLS basis after the update (levels Quadratic..Fragment)
   size_t mls_shear = 0;    // shear particles with an MLS basis after the update
-  size_t failures = 0;     // points whose MLS moment matrix stayed singular at the largest support
-  std::string first_failure;
+  size_t failures = 0;     // census.failures: material without a basis (0 unless the chain failed)
+  std::string first_failure;  // the first point of this update the chain failed for, with the reason
+  std::string first_sliver;   // the first point of this update that became Rigid or Removed
+  BasisCensus census;      // the whole patch after the update
 };
 
 // Where a force evaluation failed: an inverted or degenerate quadrature point.
@@ -156,10 +178,18 @@ class ShellPatch {
   // and Type IV point whose support those edges touch is re-examined: if the crack separates it from a
   // control point of its NURBS support it switches to an MLS basis over the control points it can see
   // (segment test in parameter space). The index must outlive the patch's use of it.
+  // Points whose MLS fit fails go down the fallback chain (shell/basis_chain.hpp): they are never dropped.
   CrackUpdate update_crack(const crack2d::CrackIndex& index, size_t first_new_edge, const MlsSettings& settings);
+  // The same with the fallback chain's own settings (chain.mls replaces `settings` above).
+  CrackUpdate update_crack(const crack2d::CrackIndex& index, size_t first_new_edge, const BasisChainSettings& chain);
   const crack2d::CrackIndex* crack() const { return crack_; }
   size_t num_mls_points() const { return num_mls_points_; }
-  size_t num_mls_failures() const { return num_mls_failures_; }
+  // Material without a basis (census().failures); 0 unless the fallback chain failed somewhere.
+  size_t num_mls_failures() const { return census_.failures; }
+  const BasisCensus& census() const { return census_; }
+  // Basis level of in-plane point q / shear particle c.
+  BasisLevel point_level(size_t q) const;
+  BasisLevel shear_level(size_t c) const;
   // Parameter location of control point k (its Greville point) and of shear particle c (cell centre).
   Vec2 control_parameter(size_t k) const { return control_grid_.point(static_cast<int>(k)); }
   const Vec2& shear_parameter(size_t c) const { return cell_center_[c]; }
@@ -167,9 +197,16 @@ class ShellPatch {
   // whose grid nodes get phantom copies, thesis sec. 4.7.1).
   const std::vector<unsigned char>& control_near_crack() const { return control_near_crack_; }
   const std::vector<unsigned char>& shear_near_crack() const { return shear_near_crack_; }
-  // Current mid-surface position at parameter uv: NURBS, or MLS over the visible control points when the
-  // crack separates uv from part of its NURBS support (render vertices, thesis sec. 4.9.3). `work` is
-  // per-thread scratch.
+  // Current mid-surface point at parameter uv (render vertices, thesis sec. 4.9.3): NURBS, or, when the
+  // crack separates uv from part of its NURBS support, the same fallback chain as the quadrature points,
+  // so a vertex never averages across a crack. level == Removed: uv lies in a fragment without control
+  // points; position is then the NURBS one and meaningless, and faces using the vertex should be dropped.
+  struct SurfacePoint {
+    Vec3 position = Vec3::Zero();
+    BasisLevel level = BasisLevel::Nurbs;
+  };
+  SurfacePoint surface_point(const Vec2& uv, BasisChainWork& work) const;
+  // surface_point(uv).position with per-thread scratch of its own (`work` is not used any more).
   Vec3 position_at(const Vec2& uv, MlsBasis& work) const;
 
   // Parameter coordinate and basis (value per support control point) of in-plane point q; support
@@ -195,7 +232,6 @@ class ShellPatch {
     const double* basis;
     int stride;
   };
-  static constexpr int32_t kMlsFailed = -2;
   static constexpr int kBasisStride = 6;  // R, R_1, R_2, R_11, R_12, R_22 per support control point
   static constexpr int kShearStride = 3;  // R, R_1, R_2 per support control point of a NURBS shear particle
   BasisView point_basis(size_t q) const;
@@ -215,13 +251,18 @@ class ShellPatch {
     std::vector<int> index;
     std::vector<double> basis;
     std::vector<Vec3> force;
-    double reach = 1.5;  // support half-width in cells (the MLS factor)
+    double reach = 1.5;  // half-width in cells of the box whose cracks the basis depends on
+    BasisLevel level = BasisLevel::Quadratic;
+    int order = 2;                  // 1: linear basis, second derivatives zero (membrane only)
+    Vec3 rigid_offset = Vec3::Zero();  // Rigid: reference position minus sum R_k X_k (a translation)
+    bool nudged = false;               // the point lay on a crack line (evaluated 1e-9 cells to one side)
+    bool chain_failed = false;         // Rigid although its fragment spans a plane (census.failures)
   };
-  // MLS fit at xi over the control points visible from it (thesis sec. 4.6), with the relaxed retry;
-  // false when even that stays singular.
-  bool fit_mls(const Vec2& xi, const crack2d::CrackIndex& index, MlsBasis& work) const;
-  // Computes the MLS basis at xi over visible control points; false when it stays singular.
-  bool build_mls(const Vec2& xi, const crack2d::CrackIndex& index, MlsBasis& work, MlsSupport& out) const;
+  // The fallback chain at xi over the current crack, and its result as a support (stride 6).
+  PointFit fit_chain(const Vec2& xi, BasisChainWork& work) const;
+  void fill_support(const PointFit& fit, const MlsBasis& basis, MlsSupport& out) const;
+  // Position from a support: sum R_k x_k (+ the rigid offset).
+  Vec3 support_position(const MlsSupport& m) const;
   // True when the crack separates xi from any control point of the NURBS support of `cell`.
   bool nurbs_support_cut(const Vec2& xi, size_t cell, const crack2d::CrackIndex& index) const;
   void rebuild_mls_gather();
@@ -248,17 +289,19 @@ class ShellPatch {
   std::vector<double> volume_;      // in-plane points x layers: V_q
   std::vector<double> damage_, damage_history_;  // in-plane points x layers, only for fracturing materials
   std::vector<double> failure_stress_, brittleness_;  // in-plane points, only for fracturing materials
-  // Crack state (thesis sec. 4.6): MLS supports of the points the crack separates from their NURBS
-  // support; slot -1 = NURBS basis, -2 = MLS failed (the point is dropped and reported).
+  // Crack state (thesis sec. 4.6): supports of the points the crack separates from their NURBS support
+  // (slot -1 = NURBS basis); each slot records its fallback level.
   const crack2d::CrackIndex* crack_ = nullptr;
-  MlsSettings mls_settings_;  // from the last update_crack
+  BasisChainSettings chain_settings_;  // from the last update_crack
+  crack2d::CrackPortals portals_;      // crack corners for the fragment paths, rebuilt with the crack
+  BasisCensus census_;
   ControlGrid control_grid_;
   std::vector<int32_t> point_slot_, shear_slot_;
   std::vector<MlsSupport> slots_;
   std::vector<unsigned char> control_near_crack_, shear_near_crack_;
   std::vector<int> mls_gather_offsets_;             // control point -> entries of mls_gather_
   std::vector<std::pair<int, int>> mls_gather_;     // (slot, support entry)
-  size_t num_mls_points_ = 0, num_mls_failures_ = 0;
+  size_t num_mls_points_ = 0;
   // Deterministic gather of per-cell forces: control point c receives cell_force_[gather_[k]] for
   // k in gather_offsets_[c] .. gather_offsets_[c+1].
   std::vector<Vec3> cell_force_;

@@ -1,5 +1,6 @@
 // The crack side of ShellPatch: switching points whose NURBS support a crack cuts to MLS bases
-// (thesis sec. 4.6), and evaluating the cut surface for render meshes (sec. 4.9.3).
+// (thesis sec. 4.6) through the fallback chain of shell/basis_chain.hpp, and evaluating the cut surface
+// for render meshes (sec. 4.9.3).
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -10,17 +11,21 @@ namespace shellfrac::shell {
 
 namespace {
 
+// Crack corners get their path portals this far from the vertex (a fraction of a cell): paths around a
+// tip pass that close to it.
+constexpr double kPortalOffset = 1e-7;
+
 crack2d::Box box_around(const Vec2& c, double hu, double hv) {
   return {Vec2(c.x() - hu, c.y() - hv), Vec2(c.x() + hu, c.y() + hv)};
 }
 
-// A point's new basis after a crack update: unchanged, NURBS, MLS (in `support`) or failed.
+// A point's new basis after a crack update: unchanged, NURBS, or the chain's result in `support`.
 struct PointResult {
-  enum Kind : unsigned char { Unchanged, Nurbs, Mls, Failed } kind = Unchanged;
+  enum Kind : unsigned char { Unchanged, Nurbs, Chain } kind = Unchanged;
+  PointFit fit;
   std::vector<int> index;
   std::vector<double> basis;
-  double reach = 0;  // MLS support factor
-  std::string reason;
+  Vec3 rigid_offset = Vec3::Zero();
 };
 
 }  // namespace
@@ -32,55 +37,83 @@ bool ShellPatch::nurbs_support_cut(const Vec2& xi, size_t cell, const crack2d::C
   return false;
 }
 
-bool ShellPatch::fit_mls(const Vec2& xi, const crack2d::CrackIndex& index, MlsBasis& work) const {
-  // A control point is in the support only if the segment to it crosses no crack (thesis sec. 4.6).
-  auto visible = [&](const Vec2& a, const Vec2& b) { return !index.crosses(a, b); };
-  if (mls_basis(xi, control_grid_, visible, mls_settings_, work)) return true;
-  // Pockets between crack branches can leave a point only a few, nearly aligned, visible control points.
-  // Dropping it loses material, so accept a less accurate fit first: 6 points (the quadratic basis
-  // size) and a moment matrix far from singular (rcond 1e-9); only then give up.
-  MlsSettings relaxed = mls_settings_;
-  relaxed.min_neighbours = 6;
-  relaxed.min_rcond = std::min(mls_settings_.min_rcond, 1e-9);
-  return mls_basis(xi, control_grid_, visible, relaxed, work);
+PointFit ShellPatch::fit_chain(const Vec2& xi, BasisChainWork& work) const {
+  return fit_point_basis(xi, control_grid_, *crack_, portals_, chain_settings_, work);
 }
 
-bool ShellPatch::build_mls(const Vec2& xi, const crack2d::CrackIndex& index, MlsBasis& work, MlsSupport& out) const {
-  if (!fit_mls(xi, index, work)) return false;
-  const size_t n = work.index.size();
-  out.index.assign(work.index.begin(), work.index.end());
-  out.basis.resize(n * kBasisStride);
+void ShellPatch::fill_support(const PointFit& fit, const MlsBasis& b, MlsSupport& out) const {
+  const size_t n = b.index.size();
+  out.index.assign(b.index.begin(), b.index.end());
+  out.basis.assign(n * kBasisStride, 0.0);
   for (size_t k = 0; k < n; ++k) {
     double* d = &out.basis[k * kBasisStride];
-    d[0] = work.R[k];
-    d[1] = work.R1[k];
-    d[2] = work.R2[k];
-    d[3] = work.R11[k];
-    d[4] = work.R12[k];
-    d[5] = work.R22[k];
+    d[0] = b.R[k];
+    d[1] = b.R1[k];
+    d[2] = b.R2[k];
+    // A linear basis reproduces no curvature: its second derivatives are left at 0 (membrane only).
+    if (fit.order == 2) {
+      d[3] = b.R11[k];
+      d[4] = b.R12[k];
+      d[5] = b.R22[k];
+    }
   }
   out.force.assign(n, Vec3::Zero());
-  return true;
+  out.reach = fit.reach;
+  out.level = fit.level;
+  out.order = fit.order;
+  out.rigid_offset.setZero();
+  if (fit.level == BasisLevel::Rigid) {
+    // Rigid translation: x(xi) = X(xi) + sum R_k (x_k - X_k), with the reference X of the patch.
+    Vec3 mean_rest = Vec3::Zero();
+    for (size_t k = 0; k < n; ++k) mean_rest += b.R[k] * reference_.control_points()[static_cast<size_t>(b.index[k])];
+    out.rigid_offset = reference_.point(fit.at.x(), fit.at.y()) - mean_rest;
+  }
+}
+
+Vec3 ShellPatch::support_position(const MlsSupport& m) const {
+  Vec3 p = m.rigid_offset;
+  for (size_t k = 0; k < m.index.size(); ++k) p += m.basis[k * kBasisStride] * x[static_cast<size_t>(m.index[k])];
+  return p;
+}
+
+BasisLevel ShellPatch::point_level(size_t q) const {
+  const int32_t s = point_slot_[q];
+  return s < 0 ? BasisLevel::Nurbs : slots_[static_cast<size_t>(s)].level;
+}
+
+BasisLevel ShellPatch::shear_level(size_t c) const {
+  const int32_t s = shear_slot_[c];
+  return s < 0 ? BasisLevel::Nurbs : slots_[static_cast<size_t>(s)].level;
 }
 
 CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t first_new_edge,
                                      const MlsSettings& settings) {
+  BasisChainSettings chain = chain_settings_;
+  chain.mls = settings;
+  return update_crack(index, first_new_edge, chain);
+}
+
+CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t first_new_edge,
+                                     const BasisChainSettings& chain) {
   crack_ = &index;
-  mls_settings_ = settings;
-  CrackUpdate report;
+  chain_settings_ = chain;
   const double lu = control_grid_.cell_u, lv = control_grid_.cell_v;
+  if (portals_.built_for_segments() != index.num_segments() || index.num_segments() == 0)
+    portals_.build(index, kPortalOffset * std::min(lu, lv));
+  CrackUpdate report;
   // Parameter points: in-plane points first, then shear particles (cell centres).
   const size_t np = param_.size(), total = np + num_cells_;
   std::vector<PointResult> results(total);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 64), [&](const tbb::blocked_range<size_t>& r) {
-    MlsBasis work;
+    BasisChainWork work;
     MlsSupport support_out;
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const bool is_shear = i >= np;
       const size_t id = is_shear ? i - np : i;
       const Vec2& xi = is_shear ? cell_center_[id] : param_[id];
       const int32_t slot = is_shear ? shear_slot_[id] : point_slot_[id];
-      // Only points whose current support the new segments touch are re-examined (thesis sec. 4.6).
+      // Only points whose support the new segments touch are re-examined (thesis sec. 4.6); a slot's reach
+      // covers every crack its basis depends on (paths and fragment searches included).
       const double reach = slot >= 0 ? slots_[static_cast<size_t>(slot)].reach : 1.5 * (1.0 + 1e-9);
       if (!index.touches(box_around(xi, reach * lu, reach * lv), first_new_edge)) continue;
       PointResult& res = results[i];
@@ -89,15 +122,12 @@ CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t fi
         res.kind = PointResult::Nurbs;
         continue;
       }
-      if (build_mls(xi, index, work, support_out)) {
-        res.kind = PointResult::Mls;
-        res.index = support_out.index;
-        res.basis = support_out.basis;
-        res.reach = work.factor;
-      } else {
-        res.kind = PointResult::Failed;
-        res.reason = work.reason;
-      }
+      res.kind = PointResult::Chain;
+      res.fit = fit_chain(xi, work);
+      fill_support(res.fit, work.basis, support_out);
+      res.index = support_out.index;
+      res.basis = support_out.basis;
+      res.rigid_offset = support_out.rigid_offset;
     }
   });
 
@@ -110,12 +140,11 @@ CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t fi
     const size_t id = is_shear ? i - np : i;
     int32_t& slot = is_shear ? shear_slot_[id] : point_slot_[id];
     if (res.kind == PointResult::Nurbs) continue;  // the crack passes by without cutting its support
-    if (res.kind == PointResult::Failed) {
-      if (report.first_failure.empty())
-        report.first_failure = (is_shear ? "shear particle " : "quadrature point ") + std::to_string(id) + ": " + res.reason;
-      slot = kMlsFailed;  // its MLS slot, if any, stays allocated but unused
-      continue;
-    }
+    const std::string who = (is_shear ? "shear particle " : "quadrature point ") + std::to_string(id);
+    if (res.fit.chain_failed && report.first_failure.empty()) report.first_failure = who + ": " + res.fit.reason;
+    if (res.fit.level >= BasisLevel::Rigid && report.first_sliver.empty())
+      report.first_sliver = who + " at (" + std::to_string(res.fit.at.x()) + ", " + std::to_string(res.fit.at.y()) +
+                            "): " + basis_level_name(res.fit.level);
     if (slot < 0) {
       slot = static_cast<int32_t>(slots_.size());
       slots_.emplace_back();
@@ -124,16 +153,41 @@ CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t fi
     m.index = std::move(res.index);
     m.basis = std::move(res.basis);
     m.force.assign(m.index.size(), Vec3::Zero());
-    m.reach = res.reach;
+    m.reach = res.fit.reach;
+    m.level = res.fit.level;
+    m.order = res.fit.order;
+    m.rigid_offset = res.rigid_offset;
+    m.nudged = res.fit.nudged;
+    m.chain_failed = res.fit.chain_failed;
   }
-  // Points whose support is singular now (a point can recover when the crack around it grows).
-  num_mls_failures_ = 0;
-  for (int32_t sl : point_slot_) num_mls_failures_ += sl == kMlsFailed;
-  for (int32_t sl : shear_slot_) num_mls_failures_ += sl == kMlsFailed;
-  report.failures = num_mls_failures_;
+
+  // The census of the whole patch (a point can move down the chain when the crack around it grows).
+  BasisCensus census;
+  for (const int32_t* slot_of : {point_slot_.data(), shear_slot_.data()})
+    for (size_t i = 0; i < (slot_of == point_slot_.data() ? np : num_cells_); ++i) {
+      if (slot_of[i] < 0) continue;
+      const MlsSupport& m = slots_[static_cast<size_t>(slot_of[i])];
+      census.nudged += m.nudged;
+      census.failures += m.chain_failed;
+    }
+  const size_t L = layers_.xi3.size();
+  for (size_t q = 0; q < np; ++q) {
+    const BasisLevel level = point_level(q);
+    ++census.points[static_cast<size_t>(level)];
+    if (point_slot_[q] >= 0 && slots_[static_cast<size_t>(point_slot_[q])].order == 1) ++census.membrane_only;
+    if (level < BasisLevel::Rigid) continue;
+    double V = 0;
+    for (size_t l = 0; l < L; ++l) V += volume_[q * L + l];
+    (level == BasisLevel::Rigid ? census.rigid_area : census.removed_area) += V / material_.thickness;
+    (level == BasisLevel::Rigid ? census.rigid_mass : census.removed_mass) += material_.density * V;
+  }
+  for (size_t c = 0; c < num_cells_; ++c) ++census.shear[static_cast<size_t>(shear_level(c))];
+  census_ = census;
+  report.census = census;
+  report.failures = census.failures;
   rebuild_mls_gather();
-  for (int32_t s : point_slot_) report.mls_points += s >= 0;
-  for (int32_t s : shear_slot_) report.mls_shear += s >= 0;
+  for (int32_t s : point_slot_) report.mls_points += s >= 0 && slots_[static_cast<size_t>(s)].level < BasisLevel::Rigid;
+  for (int32_t s : shear_slot_) report.mls_shear += s >= 0 && slots_[static_cast<size_t>(s)].level < BasisLevel::Rigid;
   num_mls_points_ = report.mls_points;
   return report;
 }
@@ -156,24 +210,37 @@ void ShellPatch::rebuild_mls_gather() {
   for (size_t c = 0; c < num_cells_; ++c) shear_near_crack_[c] = shear_slot_[c] != -1;
 }
 
-Vec3 ShellPatch::position_at(const Vec2& uv, MlsBasis& work) const {
+ShellPatch::SurfacePoint ShellPatch::surface_point(const Vec2& uv, BasisChainWork& work) const {
   nurbs::SurfaceBasis basis;
   reference_.rational_basis(uv.x(), uv.y(), basis);
   bool cut = false;
   if (crack_ && crack_->num_segments() > 0)
     for (int k = 0; k < basis.count && !cut; ++k)
       cut = crack_->crosses(uv, control_grid_.point(basis.index[static_cast<size_t>(k)]));
-  // Near the crack: MLS over the visible control points. If even the relaxed fit fails (a vertex in a
-  // sliver between crack branches) the NURBS position is the best there is.
-  if (cut && fit_mls(uv, *crack_, work)) {
-    Vec3 p = Vec3::Zero();
-    for (size_t k = 0; k < work.index.size(); ++k) p += work.R[k] * x[static_cast<size_t>(work.index[k])];
-    return p;
+  SurfacePoint out;
+  if (cut) {  // near the crack: the quadrature points' fallback chain, never the NURBS average
+    const PointFit fit = fit_chain(uv, work);
+    out.level = fit.level;
+    if (fit.level != BasisLevel::Removed) {
+      const MlsBasis& b = work.basis;
+      for (size_t k = 0; k < b.index.size(); ++k) out.position += b.R[k] * x[static_cast<size_t>(b.index[k])];
+      if (fit.level == BasisLevel::Rigid) {
+        Vec3 mean_rest = Vec3::Zero();
+        for (size_t k = 0; k < b.index.size(); ++k)
+          mean_rest += b.R[k] * reference_.control_points()[static_cast<size_t>(b.index[k])];
+        out.position += reference_.point(fit.at.x(), fit.at.y()) - mean_rest;
+      }
+      return out;
+    }
   }
-  Vec3 p = Vec3::Zero();
   for (int k = 0; k < basis.count; ++k)
-    p += basis.R[static_cast<size_t>(k)] * x[static_cast<size_t>(basis.index[static_cast<size_t>(k)])];
-  return p;
+    out.position += basis.R[static_cast<size_t>(k)] * x[static_cast<size_t>(basis.index[static_cast<size_t>(k)])];
+  return out;
+}
+
+Vec3 ShellPatch::position_at(const Vec2& uv, MlsBasis&) const {
+  thread_local BasisChainWork work;
+  return surface_point(uv, work).position;
 }
 
 }  // namespace shellfrac::shell

@@ -543,6 +543,57 @@ TEST(MlsBasis, TooFewVisibleControlPointsAreReported) {
   EXPECT_TRUE(b.index.empty());
 }
 
+TEST(MlsBasis, LinearOrderReproducesLinearFieldsFromThreePointsNotInALine) {
+  // The shell's linear fallback: the five points above carry the 3-term basis [1, u, v]. Values and
+  // first derivatives of 1, u, v are reproduced to round-off, second derivatives of them vanish; the
+  // quadratic u^2 is not reproduced (that is what the quadratic basis is for).
+  const ControlGrid grid = quadratic_grid(10, 10);
+  auto five = [&](const Eigen::Vector2d&, const Eigen::Vector2d& c) {
+    return (c.x() < 0.1 && c.y() < 0.1) || (std::abs(c.x() - 0.15) < 1e-12 && std::abs(c.y() - 0.15) < 1e-12);
+  };
+  MlsSettings linear;
+  linear.order = 1;
+  linear.min_neighbours = 3;
+  const Eigen::Vector2d xi(0.2, 0.1);
+  MlsBasis b;
+  ASSERT_TRUE(mls_basis(xi, grid, five, linear, b)) << b.reason;
+  EXPECT_EQ(b.size(), 5);
+  double s = 0, s1 = 0, s2 = 0, u2 = 0;
+  Eigen::Vector2d x = Eigen::Vector2d::Zero(), x1 = x, x2 = x, x11 = x, x12 = x, x22 = x;
+  for (int k = 0; k < b.size(); ++k) {
+    const Eigen::Vector2d c = grid.point(b.index[static_cast<size_t>(k)]);
+    const auto K = static_cast<size_t>(k);
+    s += b.R[K];
+    s1 += b.R1[K];
+    s2 += b.R2[K];
+    x += b.R[K] * c;
+    x1 += b.R1[K] * c;
+    x2 += b.R2[K] * c;
+    x11 += b.R11[K] * c;
+    x12 += b.R12[K] * c;
+    x22 += b.R22[K] * c;
+    u2 += b.R[K] * c.x() * c.x();
+  }
+  const double l = 0.1;
+  EXPECT_NEAR(s, 1.0, 1e-13);
+  EXPECT_NEAR(s1 * l, 0.0, 1e-12);
+  EXPECT_NEAR(s2 * l, 0.0, 1e-12);
+  EXPECT_LE((x - xi).norm() / l, 1e-12);
+  EXPECT_LE((x1 - Eigen::Vector2d(1, 0)).norm(), 1e-12);
+  EXPECT_LE((x2 - Eigen::Vector2d(0, 1)).norm(), 1e-12);
+  EXPECT_LE((x11.norm() + x12.norm() + x22.norm()) * l, 1e-11);
+  EXPECT_GT(std::abs(u2 - xi.x() * xi.x()) / (l * l), 1e-3);
+  // Three points in a line cannot fix a plane: reported, not inverted.
+  ControlPointList line;
+  line.cell_u = line.cell_v = 0.1;
+  for (int k = 0; k < 3; ++k) {
+    line.u.push_back(0.45 + 0.05 * k);
+    line.v.push_back(0.5);
+  }
+  EXPECT_FALSE(mls_basis(Eigen::Vector2d(0.5, 0.52), line, AlwaysVisible{}, linear, b));
+  expect_clean_failure(b, MlsStatus::ill_conditioned);
+}
+
 TEST(MlsBasis, InvalidInputIsReported) {
   const ControlGrid grid = quadratic_grid(4, 4);
   MlsBasis b;

@@ -1,0 +1,143 @@
+#include "shell/basis_chain.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace shellfrac::shell {
+
+const char* basis_level_name(BasisLevel level) {
+  switch (level) {
+    case BasisLevel::Nurbs: return "nurbs";
+    case BasisLevel::Quadratic: return "quadratic";
+    case BasisLevel::RelaxedQuadratic: return "relaxed_quadratic";
+    case BasisLevel::Linear: return "linear";
+    case BasisLevel::Fragment: return "fragment";
+    case BasisLevel::Rigid: return "rigid";
+    case BasisLevel::Removed: return "removed";
+  }
+  return "?";
+}
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A point exactly on a crack line sees nothing (touching counts as crossing). It stands for material on
+// both sides; it is given to the side from which it sees the most control points within the initial
+// support, moved `nudge` cells in one of eight directions (none along a grid axis or diagonal, where
+// extracted crack lines run). Ties keep the first direction: deterministic.
+Eigen::Vector2d nudge_off_crack(const Eigen::Vector2d& xi, const ControlGrid& grid, const crack2d::CrackIndex& index,
+                                const BasisChainSettings& s) {
+  const double lu = grid.cell_u, lv = grid.cell_v;
+  const double hu = s.mls.initial_factor * lu, hv = s.mls.initial_factor * lv;
+  const crack2d::Box& domain = index.domain();
+  for (double eps = s.nudge; eps < 1e-2; eps *= 1e3) {
+    Eigen::Vector2d best = xi;
+    int best_score = -1;
+    for (int k = 0; k < 8; ++k) {
+      const double a = (k + 0.5) * kPi / 4.0;
+      const Eigen::Vector2d p = xi + eps * Eigen::Vector2d(lu * std::cos(a), lv * std::sin(a));
+      if (!crack2d::box_contains(domain, p) || index.crosses(p, p)) continue;
+      int score = 0;
+      grid.for_each_in_box(p, hu, hv, [&](int, const Eigen::Vector2d& xk) { score += !index.crosses(p, xk); });
+      if (score > best_score) {
+        best_score = score;
+        best = p;
+      }
+    }
+    if (best_score >= 0) return best;
+  }
+  return xi;
+}
+
+double box_reach(const Eigen::Vector2d& xi, const Eigen::Vector2d& p, const ControlGrid& grid) {
+  return std::max(std::abs(p.x() - xi.x()) / grid.cell_u, std::abs(p.y() - xi.y()) / grid.cell_v);
+}
+
+}  // namespace
+
+PointFit fit_point_basis(const Eigen::Vector2d& xi_in, const ControlGrid& grid, const crack2d::CrackIndex& index,
+                         const crack2d::CrackPortals& portals, const BasisChainSettings& s, BasisChainWork& work) {
+  PointFit fit;
+  Eigen::Vector2d xi = xi_in;
+  if (index.crosses(xi, xi)) {
+    xi = nudge_off_crack(xi, grid, index, s);
+    fit.nudged = true;
+  }
+  fit.at = xi;
+  MlsBasis& b = work.basis;
+  auto visible = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& c) { return !index.crosses(a, c); };
+  auto done = [&](BasisLevel level, int order, double reach) {
+    fit.level = level;
+    fit.order = order;
+    fit.reach = reach;
+    return fit;
+  };
+
+  // 1. The thesis's quadratic fit over the control points seen in straight lines (sec. 4.6).
+  if (mls_basis(xi, grid, visible, s.mls, b)) return done(BasisLevel::Quadratic, 2, b.factor);
+  fit.reason = b.reason;
+  // 2. Relaxed: the quadratic basis size and a moment matrix merely far from singular.
+  MlsSettings relaxed = s.mls;
+  relaxed.min_neighbours = s.relaxed_min_neighbours;
+  relaxed.min_rcond = std::min(s.mls.min_rcond, s.relaxed_min_rcond);
+  if (mls_basis(xi, grid, visible, relaxed, b)) return done(BasisLevel::RelaxedQuadratic, 2, b.factor);
+  // 3. Linear over the same straight-line supports: three points not in a line.
+  MlsSettings linear = s.mls;
+  linear.order = 1;
+  linear.min_neighbours = 3;
+  linear.min_rcond = s.linear_min_rcond;
+  if (mls_basis(xi, grid, visible, linear, b)) return done(BasisLevel::Linear, 1, b.factor);
+
+  // 4. The own fragment along crack-free paths: first forward ones (bending only ahead of a crack corner
+  // and by at most 90 degrees in all: never reaching behind a crack), then any path over a longer reach.
+  FragmentWork& fw = work.fragment;
+  const double reaches[2] = {s.mls.max_factor, s.fragment_reach * s.mls.max_factor};
+  for (int pass = 0; pass < 2; ++pass) {
+    gather_along_paths(xi, grid, index, portals, reaches[pass], pass == 0, fw);
+    MlsSettings quad = s.mls;
+    quad.max_factor = reaches[pass];
+    if (fit_along_paths(xi, grid, fw.reached, quad, b)) return done(BasisLevel::Fragment, 2, reaches[pass]);
+    MlsSettings lin = linear;
+    lin.max_factor = reaches[pass];
+    if (fit_along_paths(xi, grid, fw.reached, lin, b)) return done(BasisLevel::Fragment, 1, reaches[pass]);
+  }
+
+  // 5. The whole fragment, however far. If it spans a plane, fit over all of it; otherwise it is a sliver.
+  const bool spans = reach_fragment(xi, grid, index, portals, true, fw);
+  // The verdict depends on the cracks inside the box holding the path nodes and control points reached:
+  // cracks are only ever added, so a fragment only loses control points, and only where a new segment
+  // cuts one of those straight hops.
+  auto verdict_reach = [&] {
+    double r = 0.0;
+    for (size_t i = 0; i < fw.paths.num_settled(); ++i) r = std::max(r, box_reach(xi, fw.paths.settled_point(i), grid));
+    for (const ReachedPoint& p : fw.reached) r = std::max(r, box_reach(xi, grid.point(p.index), grid));
+    return r * (1.0 + 1e-9) + 1e-9;
+  };
+  double reach = verdict_reach();
+  if (spans) {
+    double longest = 0.0;
+    for (const ReachedPoint& r : fw.reached) longest = std::max(longest, r.length);
+    const double limit = 1.25 * longest + s.mls.initial_factor;
+    gather_along_paths(xi, grid, index, portals, limit, false, fw);
+    MlsSettings lin = linear;
+    lin.initial_factor = std::min(lin.initial_factor, limit);
+    lin.max_factor = limit;
+    if (fit_along_paths(xi, grid, fw.reached, lin, b)) return done(BasisLevel::Fragment, 1, std::max(reach, limit));
+    fit.chain_failed = true;  // the fragment could carry a basis but no fit was accepted
+    fit.reason += "; no fit over its fragment either: " + b.reason;
+    reach_fragment(xi, grid, index, portals, false, fw);
+    reach = verdict_reach();
+  }
+  // Rigid: the fragment's control points, equally weighted (a rigid translation with their mean motion).
+  b.index.clear();
+  for (const ReachedPoint& r : fw.reached) b.index.push_back(r.index);
+  const size_t n = b.index.size();
+  b.R.assign(n, n > 0 ? 1.0 / static_cast<double>(n) : 0.0);
+  for (auto* a : {&b.R1, &b.R2, &b.R11, &b.R12, &b.R22}) a->assign(n, 0.0);
+  b.ok = n > 0;
+  return done(n > 0 ? BasisLevel::Rigid : BasisLevel::Removed, 0, reach);
+}
+
+}  // namespace shellfrac::shell
