@@ -179,7 +179,11 @@ double face_stretch(const std::vector<Vec3>& rest, const std::vector<Vec3>& curr
     C.row(static_cast<Eigen::Index>(k)) = (current[k] - cc).transpose();
   }
   const Eigen::JacobiSVD<Eigen::MatrixXd> axes(R, Eigen::ComputeThinV);
-  if (axes.singularValues()(1) <= 1e-12 * axes.singularValues()(0) || axes.singularValues()(0) == 0.0) return 0.0;
+  // Degenerate rest polygons carry no material: the tessellation leaves faces one crack-line nudge
+  // (1e-9 of a cell) wide between a crack's vertices and their neighbours; their map is ill-determined
+  // and read 10-8000x on tear-mode-one's cleanly separated last frame. A width below 1e-6 of the length
+  // is such a face (a real sliver next to a crack is at least a shadow offset, 1e-5 of a cell, wide).
+  if (axes.singularValues()(1) <= kDegenerateWidth * axes.singularValues()(0) || axes.singularValues()(0) == 0.0) return 0.0;
   const Eigen::MatrixXd P = R * axes.matrixV().leftCols(2);  // n x 2 rest coordinates
   // F (3 x 2) minimises sum_k |c_k - F p_k|^2: exact for triangles and for affinely deformed polygons.
   const Eigen::MatrixXd F = (C.transpose() * P) * (P.transpose() * P).inverse();

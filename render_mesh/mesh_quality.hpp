@@ -73,6 +73,9 @@ struct StrandStats {
 // Exact for a triangle and for an affinely deformed polygon; unlike the map of each triangle of a
 // triangulation, it is not fooled by a thin sub-triangle between two nearly coincident corners (a crack's
 // shadow vertices), whose own map is ill-determined. 0 for a degenerate rest polygon.
+// A rest polygon whose width (second principal extent) is below kDegenerateWidth of its length counts
+// as degenerate (stretch 0).
+constexpr double kDegenerateWidth = 1e-6;
 double face_stretch(const std::vector<Vec3>& rest, const std::vector<Vec3>& current);
 
 // A face is a strand when its face_stretch exceeds `threshold`; its current area counts.

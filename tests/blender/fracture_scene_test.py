@@ -1,5 +1,6 @@
 """Real-client check of a shipped fracture scene (issue 12): run it, import its last frame into Blender, and
-assert that Blender's loose-part count equals metrics.pieces + metrics.slivers.count.
+assert that Blender's loose-part count equals metrics.pieces + metrics.slivers.count; then the scene's own
+criteria of issue 12 on its summary.json (check_scene_criteria), so each scene runs once.
 
     python3 fracture_scene_test.py --list SCENES_DIR
         prints the fracture scenes (a shell with a "fracture" material or "cuts"), one path a line
@@ -39,11 +40,97 @@ def expected_parts(summary):
     return metrics["pieces"] + metrics["slivers"]["count"], None
 
 
+def crack_components(graph):
+    """Connected components of a crack graph's edges (vertices without edges are not counted)."""
+    parent = list(range(len(graph["vertices"])))
+
+    def find(x):
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+    for a, b in graph["edges"]:
+        parent[find(a)] = find(b)
+    return len({find(a) for a, _ in graph["edges"]})
+
+
+def diagonal_reach(graph, centre=(0.5, 0.5)):
+    """Per diagonal direction (towards the corners (1,1), (0,1), (0,0), (1,0) of the unit parameter square),
+    the farthest distance from `centre` of a crack vertex within 22.5 degrees of that diagonal."""
+    import math
+    reach = [0.0] * 4
+    for x, y in graph["vertices"]:
+        dx, dy = x - centre[0], y - centre[1]
+        r = math.hypot(dx, dy)
+        if r == 0.0:
+            continue
+        angle = math.degrees(math.atan2(dy, dx)) % 360.0
+        for k, diagonal in enumerate((45.0, 135.0, 225.0, 315.0)):
+            if abs((angle - diagonal + 180.0) % 360.0 - 180.0) <= 22.5:
+                reach[k] = max(reach[k], r)
+    return reach
+
+
+def check_scene_criteria(name, summary):
+    """The per-scene validation of issue 12, on the shipped scene at its shipped resolution. Every
+    fracture scene: no material without a basis and the strict-subset property of the crack graph."""
+    m = summary["metrics"]
+    cracks = m["cracks"]
+    bt.check(cracks["mls_failures"] == 0, "%s: mls_failures %d, expected 0" % (name, cracks["mls_failures"]))
+    bt.check(cracks["subset_violations"] == 0,
+             "%s: %d subset violations, expected 0" % (name, cracks["subset_violations"]))
+    if name == "tear-mode-one":
+        bt.check(m["pieces"] == 2 and min(m["piece_areas"]) >= 0.4,
+                 "%s: pieces %d with areas %s, expected 2 of at least 0.4 m^2" % (name, m["pieces"], m["piece_areas"]))
+        bt.check(m["slivers"]["count"] == 0, "%s: %s, expected no slivers" % (name, m["slivers"]))
+        bt.check(0.99 <= sum(m["piece_areas"]) <= 1.01,
+                 "%s: total area %.6f m^2, expected within [0.99, 1.01]" % (name, sum(m["piece_areas"])))
+        # The grown crack joins the notch: the prescribed cut and the grown crack are one graph component.
+        graph = summary["crack_graphs"][0]
+        bt.check(crack_components(graph) == 1,
+                 "%s: the crack graph has %d components: the grown crack does not join the notch"
+                 % (name, crack_components(graph)))
+        bt.check(m["strand_area"] == 0.0, "%s: strand area %g m^2 (%d faces), expected 0"
+                 % (name, m["strand_area"], m["strand_faces"]))
+    elif name == "rubber-notches":
+        bt.check(m["pieces"] == 2, "%s: %d pieces, expected 2" % (name, m["pieces"]))
+        bt.check(m["strand_area"] == 0.0, "%s: strand area %g m^2 (%d faces), expected 0"
+                 % (name, m["strand_area"], m["strand_faces"]))
+    elif name == "plate-pressure":
+        bt.check(summary["simulated_seconds"] >= EXTENDED_END[name] - 1e-9,
+                 "%s: reached %g s, expected %g s" % (name, summary["simulated_seconds"], EXTENDED_END[name]))
+        # Cracks from the centre towards the four corners (thesis Fig. 4.19c): along each diagonal, within
+        # 22.5 degrees, a crack vertex at least 0.3 from the centre (the corners are 0.707 away).
+        reach = diagonal_reach(summary["crack_graphs"][0])
+        bt.check(min(reach) >= 0.3, "%s: crack reach along the four diagonals %s, expected at least 0.3 each"
+                 % (name, ["%.3f" % r for r in reach]))
+    elif name == "cloth-two-balls":
+        bt.check(m["max_edge_stretch"] <= 3.0, "%s: max edge stretch %g, expected at most 3" % (name, m["max_edge_stretch"]))
+
+
+# Scenes whose criterion is a longer run than shipped: plate-pressure must run to three times its shipped
+# end (issue 12: it used to fail soon after 0.15 s). The copy keeps everything else.
+EXTENDED_END = {"plate-pressure": 0.45}
+
+
+def scene_to_run(scene, name, out_root):
+    if name not in EXTENDED_END:
+        return scene
+    with open(scene) as f:
+        doc = json.load(f)
+    doc["time"]["end"] = EXTENDED_END[name]
+    os.makedirs(out_root, exist_ok=True)
+    path = os.path.join(out_root, name + "-extended.json")
+    with open(path, "w") as f:
+        json.dump(doc, f, indent=2)
+    return path
+
+
 def check_scene(args, blender, scene):
     name = os.path.splitext(os.path.basename(scene))[0]
     out_dir = os.path.join(args.out, name)
     t0 = time.time()
-    summary = bt.shellfrac_run(args.shellfrac, scene, out_dir, threads=2)
+    summary = bt.shellfrac_run(args.shellfrac, scene_to_run(scene, name, args.out), out_dir, threads=2)
     run_seconds = time.time() - t0
     bt.check(summary.get("status") == "completed", "%s: the run did not complete: %s" % (name, summary.get("error")))
     last = os.path.join(out_dir, summary["frames"][-1])
@@ -61,6 +148,7 @@ def check_scene(args, blender, scene):
              cracks.get("mls_failures"), run_seconds, blender_seconds), flush=True)
     if args.count_only:
         return
+    check_scene_criteria(name, summary)
     bt.check(expected is not None, "%s: %s; Blender counts %d loose parts in the last frame" % (name, why, count))
     bt.check(count == expected, "%s: Blender counts %d loose parts in %s, summary.json says pieces + slivers.count = "
              "%d + %d = %d" % (name, count, last, metrics["pieces"], metrics["slivers"]["count"], expected))

@@ -74,6 +74,20 @@ TEST(EdgeStretch, ShortSidesAreMeasuredAgainstATenthOfTheMedianSide) {
   EXPECT_EQ(gap.corner, 0);
 }
 
+TEST(StrandArea, FacesOneNudgeWideAtRestAreDegenerate) {
+  // A hexagon 1e-9 wide along a crack line (rest), whose corners then move apart by 1e-6 across it:
+  // its least-squares map reads about 1000x, but it holds no material. A face 1e-5 wide (a shadow
+  // offset) stretched 5x across is a strand.
+  auto strip = [](double width, double opened) {
+    std::vector<Vec3> rest, now;
+    for (int k = 0; k < 3; ++k) rest.emplace_back(0.01 * k, 0.0, 0.0), now.emplace_back(0.01 * k, 0.0, 0.0);
+    for (int k = 2; k >= 0; --k) rest.emplace_back(0.01 * k, width, 0.0), now.emplace_back(0.01 * k, opened, 0.0);
+    return face_stretch(rest, now);
+  };
+  EXPECT_EQ(strip(1e-9, 1e-6), 0.0);
+  EXPECT_NEAR(strip(1e-5, 5e-5), 5.0, 1e-9);
+}
+
 TEST(PrincipalStretch, SimpleShearHasTheClosedForm) {
   // x' = x + g y: F = [[1, g], [0, 1]], singular values (sqrt(g^2 + 4) +- g) / 2.
   const PolyMesh rest = square_grid(1);
