@@ -4,6 +4,7 @@
 #include "crack2d/damage_closing.hpp"
 #include "crack2d/damage_field.hpp"
 #include "crack2d/medial_spurs.hpp"
+#include "crack2d/sample_clearance.hpp"
 #include "crack2d/sample_grid.hpp"
 #include "crack2d/union_find.hpp"
 #include "crack2d/voronoi_medial_axis.hpp"
@@ -37,11 +38,13 @@ constexpr double kEdgeLigament = 4.0;        // longest damaged ligament from an
 constexpr double kMinFragment = 1.5;         // shorter isolated medial pieces are noise; shorter tips are not extended
 constexpr double kTipDirectionLength = 3.0;  // crack length behind a tip that sets the extension direction
 // Closure thresholds, in simulation cells c (see docs/crack-extraction.md).
-constexpr double kClosingRadius = 0.5;       // closing disc radius: fills speckle and notches up to ~a cell
+constexpr double kClosingRadius = 0.45;      // closing disc radius: fills speckle and notches up to ~a cell
+                                             // (not a lattice distance of a 4 x 4 sampling: 1.8 h)
 constexpr double kJoinReach = 1.0;           // tips this close to a crack, cut or the border join it
+constexpr double kSampleClearance = 1e-6;    // shift that moves a new segment off a sample lying on it
 constexpr double kParallelCover = 1.0;       // a new line beside the crack in the same damaged band duplicates it
 constexpr double kSpurProtrusion = 1.0;      // medial branches sticking out of the band by less are spurs
-constexpr double kMinLoopArea = 1.0;         // (cells^2) a join may not close a loop around less material
+constexpr double kContinuationReach = 4.0;   // tips inside damage continue through it this far
 constexpr double kLoopSearch = 16.0;         // ways back through the crack longer than this count as no loop
 
 uint64_t pair_key(int a, int b) {
@@ -417,11 +420,27 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
     for (size_t k = 0; k < keep_link.size(); ++k) keep_link[k] = keep[keep_line.size() + k];
   }
 
+  // Keep the new segments off the sample points (crack2d/sample_clearance.hpp): only new Voronoi nodes
+  // inside the patch move, by kSampleClearance spacings.
+  std::vector<Point> node_position(n + m);
+  for (int k = 0; k < n + m; ++k) node_position[k] = k < n ? voronoi.nodes[k] : graph_.vertices()[k - n];
+  {
+    std::vector<std::array<int, 2>> kept;
+    for (size_t k = 0; k < added_voronoi_edges.size(); ++k)
+      if (keep_line[k])
+        kept.push_back({node_of(voronoi.edges[added_voronoi_edges[k]].node_a), node_of(voronoi.edges[added_voronoi_edges[k]].node_b)});
+    for (size_t k = 0; k < bridge_links.size(); ++k)
+      if (keep_link[k]) kept.push_back({bridge_links[k].from, bridge_links[k].to});
+    std::vector<char> movable(n + m, 0);
+    for (int k = 0; k < n; ++k) movable[k] = alias[k] == k && !on_box_boundary(voronoi.nodes[k], domain_, weld);
+    clear_samples_off_edges(node_position, kept, movable, cache.points, *cache.grid, kSampleClearance * h);
+  }
+
   // Materialise: new-line edges, then bridges, in discovery order (deterministic).
   std::vector<int> vertex_of(n + m, -1);
   for (int v = 0; v < m; ++v) vertex_of[n + v] = v;
   auto vertex_for = [&](int k) {
-    if (vertex_of[k] < 0) vertex_of[k] = graph_.add_vertex(voronoi.nodes[k]);
+    if (vertex_of[k] < 0) vertex_of[k] = graph_.add_vertex(node_position[k]);
     return vertex_of[k];
   };
   auto remember_seeds = [&](int e) {
@@ -486,6 +505,8 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
         Segment s{p, q + dir * (1e-9 * h)};
         clip_segment_to_box(s, domain_);
         q = s.b;
+      } else if (segment_hits_sample(graph_.vertices()[last], q, cache.points, *cache.grid)) {
+        q += kSampleClearance * h * Point(-dir.y(), dir.x());
       }
       const int next = graph_.add_vertex(q);
       graph_.add_edge(last, next);
@@ -545,20 +566,23 @@ void ConsistentCrackExtractor::close_graph(const DamageField& field, ExtractionS
   settings.cell = kJoinReach * cell_;
   settings.neighbour_radius = kBoundaryRadius * spacing_;
   settings.covered = kCoveredByHistory * spacing_;
-  settings.min_loop_area = kMinLoopArea * cell_ * cell_;
   settings.loop_search = kLoopSearch * cell_;
+  settings.continuation_reach = kContinuationReach * cell_;
+  settings.sample_clearance = kSampleClearance * spacing_;
   settings.min_piece = samples_per_cell();
   settings.weld = 1e-9 * std::max(domain_.hi.x() - domain_.lo.x(), domain_.hi.y() - domain_.lo.y());
   ClosureStats closure;
   // Joins first (most gaps are a tip short of a crack or the border), then separation where damaged
   // material still links two intact pieces, then joins again for the ends of the separating lines.
   join_tips(graph_, index_, field, domain_, settings, closure);
+  continue_tips(graph_, index_, field, domain_, settings, closure);
   const size_t before = closure.separating_edges;
   separate_intact_pieces(graph_, index_, field, domain_, settings, closure);
   if (closure.separating_edges > before) join_tips(graph_, index_, field, domain_, settings, closure);
   stats.separating_edges = closure.separating_edges;
   stats.crack_joins = closure.crack_joins;
   stats.border_joins = closure.border_joins;
+  stats.continuations = closure.continuations;
 }
 
 }  // namespace shellfrac::crack2d

@@ -40,6 +40,7 @@ struct ExtractionStats {
   size_t separating_edges = 0;  // closure: segments added between intact pieces linked by damage
   size_t crack_joins = 0;       // closure: tips joined to another crack or a prescribed cut
   size_t border_joins = 0;      // closure: tips joined to the patch border
+  size_t continuations = 0;     // closure: tips continued through damaged material
 };
 
 class DamageField;
