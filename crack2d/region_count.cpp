@@ -46,4 +46,31 @@ RegionCount count_regions(const CrackIndex& index, const Box& domain, int nu, in
   return out;
 }
 
+std::vector<int> touching_components(const CrackGraph& graph, const CrackIndex& index, double tol,
+                                     int* num_components) {
+  const size_t n = graph.num_vertices();
+  UnionFind sets(n);
+  for (const auto& e : graph.edges()) sets.unite(e[0], e[1]);
+  for (size_t v = 0; v < n; ++v) {
+    const int vi = static_cast<int>(v);
+    if (graph.degree(vi) == 0) continue;
+    const Point& p = graph.vertices()[v];
+    for (const uint32_t id : index.segments_near({p - Point::Constant(tol), p + Point::Constant(tol)})) {
+      if (id >= graph.num_edges()) continue;
+      const auto& e = graph.edges()[id];
+      if (point_segment_distance(p, graph.segment(id)) <= tol) sets.unite(vi, e[0]);
+    }
+  }
+  std::vector<int> label(n, -1), id_of_root(n, -1);
+  int count = 0;
+  for (size_t v = 0; v < n; ++v) {
+    if (graph.degree(static_cast<int>(v)) == 0) continue;
+    const int root = sets.find(static_cast<int>(v));
+    if (id_of_root[root] < 0) id_of_root[root] = count++;
+    label[v] = id_of_root[root];
+  }
+  if (num_components) *num_components = count;
+  return label;
+}
+
 }  // namespace shellfrac::crack2d

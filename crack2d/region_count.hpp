@@ -21,4 +21,10 @@ struct RegionCount {
 
 RegionCount count_regions(const CrackIndex& index, const Box& domain, int nu, int nv);
 
+// Connected parts of the crack as a point set: like CrackGraph::component_labels, but a vertex lying
+// on another segment (within tol, e.g. the end of a join that landed inside a segment) connects to it.
+// Labels per vertex (-1 for vertices without edges), numbered in order of their smallest vertex.
+std::vector<int> touching_components(const CrackGraph& graph, const CrackIndex& index, double tol,
+                                     int* num_components = nullptr);
+
 }  // namespace shellfrac::crack2d
