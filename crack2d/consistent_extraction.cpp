@@ -27,7 +27,7 @@ constexpr double kBoundaryRadius = 1.5;      // a damaged sample with an undamag
 constexpr double kOppositeCos = -0.5;        // seed normals more than 120 degrees apart face each other
 constexpr double kDamageProbeStep = 0.5;     // probe spacing along an edge for "inside the damaged region"
 constexpr double kNearestSampleRadius = 3.0; // farther than this from every sample counts as undamaged
-constexpr double kCoveredByHistory = 0.25;   // a new edge whose midpoint is this close to L duplicates L
+constexpr double kCoveredByHistory = 0.25;   // a separating edge whose midpoint is this close to L duplicates L
 constexpr double kLinkRadius = 0.75;         // old crack vertices join Voronoi nodes this close
 constexpr double kTipLinkRadius = 2.0;       // old tips join Voronoi nodes this close (tip bridging, Fig. 4.8b)
 constexpr double kTipPreference = 4.0;       // a bridge to an old tip may be this much longer than the shortest
@@ -37,11 +37,11 @@ constexpr double kExtensionPiece = 0.5;      // longest segment of a tip extensi
 constexpr double kEdgeLigament = 4.0;        // longest damaged ligament from an old tip to the edge
 constexpr double kMinFragment = 1.5;         // shorter isolated medial pieces are noise; shorter tips are not extended
 constexpr double kTipDirectionLength = 3.0;  // crack length behind a tip that sets the extension direction
+constexpr double kSampleClearance = 1e-6;    // shift that moves a new segment off a sample lying on it
 // Closure thresholds, in simulation cells c (see docs/crack-extraction.md).
 constexpr double kClosingRadius = 0.45;      // closing disc radius: fills speckle and notches up to ~a cell
                                              // (not a lattice distance of a 4 x 4 sampling: 1.8 h)
 constexpr double kJoinReach = 1.0;           // tips this close to a crack, cut or the border join it
-constexpr double kSampleClearance = 1e-6;    // shift that moves a new segment off a sample lying on it
 constexpr double kParallelCover = 1.0;       // a new line beside the crack in the same damaged band duplicates it
 constexpr double kSpurProtrusion = 1.0;      // medial branches sticking out of the band by less are spurs
 constexpr double kContinuationReach = 4.0;   // tips inside damage continue through it this far
