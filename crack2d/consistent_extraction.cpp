@@ -28,6 +28,7 @@ constexpr double kOppositeCos = -0.5;        // seed normals more than 120 degre
 constexpr double kDamageProbeStep = 0.5;     // probe spacing along an edge for "inside the damaged region"
 constexpr double kNearestSampleRadius = 3.0; // farther than this from every sample counts as undamaged
 constexpr double kCoveredByHistory = 0.25;   // a separating edge whose midpoint is this close to L duplicates L
+constexpr double kSnapRadius = 0.25;         // a Voronoi node this close to an old crack vertex is that vertex
 constexpr double kLinkRadius = 0.75;         // old crack vertices join Voronoi nodes this close
 constexpr double kTipLinkRadius = 2.0;       // old tips join Voronoi nodes this close (tip bridging, Fig. 4.8b)
 constexpr double kTipPreference = 4.0;       // a bridge to an old tip may be this much longer than the shortest
@@ -160,7 +161,8 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
   const size_t old_edges = graph_.num_edges();
   const SampleCache& cache = samples_for(points);
   // 0. Regularise the damaged set at the cell scale (closing, pocket filling; crack2d/damage_closing.hpp).
-  const std::vector<unsigned char> regular = close_damage(damaged, &cache.disc, cache.adjacency, samples_per_cell());
+  const std::vector<unsigned char> regular =
+      close_damage(damaged, &cache.disc, cache.adjacency, samples_per_cell(), cache.at_edge);
   const DamageField field(cache.points, regular, *cache.grid, cache.adjacency, kNearestSampleRadius * h,
                           kDamageProbeStep * h);
   const SeedLattice lattice(domain_);
@@ -229,7 +231,9 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
       const double radius = (tip ? kTipLinkRadius : kLinkRadius) * h;
       node_grid.for_each_within(p, radius, [&](int k) {
         const double len = (voronoi.nodes[k] - p).norm();
-        if (len <= weld) {
+        // A node this close to an old vertex is that vertex: a link of a fraction of a spacing would
+        // only add a sliver of a segment at a junction.
+        if (len <= kSnapRadius * h) {
           if (alias[k] == k) alias[k] = n + v;
           return;
         }
@@ -473,6 +477,12 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
     if (graph_.degree(tip) != 1) continue;
     const Point p = graph_.vertices()[tip];
     if (on_box_boundary(p, domain_, weld)) continue;
+    // The end of an earlier join that landed inside a segment is no tip (crack2d/crack_closure.hpp).
+    bool landed = false;
+    for (const uint32_t id : index_.segments_near({p - Point::Constant(weld), p + Point::Constant(weld)}))
+      landed = landed || (graph_.edges()[id][0] != tip && graph_.edges()[id][1] != tip &&
+                          point_segment_distance(p, index_.segment(id)) <= weld);
+    if (landed) continue;
     const Point from = graph_.vertices()[trace_back(graph_, tip, kTipDirectionLength * h)];
     // Only a crack with an established direction is extended; a short stub would point anywhere.
     if ((p - from).norm() < kMinFragment * h) continue;
@@ -550,6 +560,8 @@ const ConsistentCrackExtractor::SampleCache& ConsistentCrackExtractor::samples_f
     cache->grid = std::make_unique<SampleGrid>(cache->points, kBoundaryRadius * spacing_);
     cache->adjacency = SampleNeighbours(cache->points, *cache->grid, kBoundaryRadius * spacing_);
     cache->disc = SampleNeighbours(cache->points, *cache->grid, kClosingRadius * cell_);
+    cache->at_edge.resize(points.size());
+    for (size_t i = 0; i < points.size(); ++i) cache->at_edge[i] = on_box_boundary(points[i], domain_, kClosingRadius * cell_);
     samples_ = std::move(cache);
   }
   return *samples_;

@@ -81,6 +81,7 @@ class ConsistentCrackExtractor {
     std::unique_ptr<SampleGrid> grid;  // refers to points
     SampleNeighbours adjacency;        // within kBoundaryRadius spacings
     SampleNeighbours disc;             // within the closing radius
+    std::vector<char> at_edge;         // closer to the patch edge than the closing radius
   };
   const SampleCache& samples_for(const std::vector<Point>& points);
   size_t samples_per_cell() const;

@@ -5,9 +5,9 @@
 #include "crack2d/voronoi_medial_axis.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
-#include <array>
 #include <queue>
 
 namespace shellfrac::crack2d {
@@ -118,14 +118,6 @@ void separate_intact_pieces(CrackGraph& graph, CrackIndex& index, const DamageFi
 }
 
 namespace {
-
-struct JoinCandidate {
-  double distance;
-  int kind;        // 0: crack segment, 1: patch border
-  uint32_t id;     // segment index, or border side
-  Point q;         // end of the join on the target
-  int vertex;      // existing crack vertex at q, or -1
-};
 
 // A join that lands inside a segment ends on a vertex of its own (the graph is append-only, so the
 // segment is not split); that vertex is attached to the segment's two ends for path lengths.
@@ -246,7 +238,7 @@ class TipCloser {
   // Intact samples enclosed by a link from the tip to c together with the shortest way back to the tip
   // through the crack (and along the border); SIZE_MAX when there is no such way within the search
   // bound. A link that closes a loop only around damaged material would cut rubble out of the band.
-  size_t enclosed_intact(int tip, const Target& c, const DamageField& field) {
+  size_t enclosed_intact(int tip, const Target& c) {
     if (tree_tip_ != tip) {
       tree_ = graph_distances(graph_, attached_to_, attachments_, tip, settings_.loop_search);
       tree_tip_ = tip;
@@ -286,8 +278,8 @@ class TipCloser {
     Point lo = loop[0], hi = loop[0];
     for (const Point& q : loop) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
     size_t intact = 0;
-    field.grid().for_each_within(0.5 * (lo + hi), 0.5 * (hi - lo).norm(), [&](int i) {
-      if (!field.flags()[i] && inside_polygon(field.points()[i], loop)) ++intact;
+    field_.grid().for_each_within(0.5 * (lo + hi), 0.5 * (hi - lo).norm(), [&](int i) {
+      if (!field_.flags()[i] && inside_polygon(field_.points()[i], loop)) ++intact;
     });
     return intact;
   }
@@ -338,7 +330,7 @@ class TipCloser {
         }
       }
       if (target < 0) {
-        target = graph_.add_vertex(q);
+        target = add_vertex(q);
         if (c.kind == 0) attach(target, static_cast<int>(c.id));
       }
     }
@@ -414,7 +406,7 @@ void join_tips(CrackGraph& graph, CrackIndex& index, const DamageField& field, c
     });
     for (const auto& [dist, c] : candidates) {
       if (!field.damaged_along(p, c.q)) continue;
-      if (closer.enclosed_intact(tip, c, field) < settings.min_piece) continue;
+      if (closer.enclosed_intact(tip, c) < settings.min_piece) continue;
       if (!closer.clear(p, c.q, tip, &c)) continue;
       closer.land(tip, c);
       ++(c.kind == 0 ? stats.crack_joins : stats.border_joins);
@@ -466,7 +458,10 @@ void continue_tips(CrackGraph& graph, CrackIndex& index, const DamageField& fiel
         if ((t.q - pts[s]).norm() <= r) candidates.push_back(t);
       for (const Target& c : candidates) {
         if (!field.damaged_along(pts[s], c.q) || !closer.clear(pts[s], c.q, -1, &c)) continue;
-        if (closer.enclosed_intact(tip, c, field) < settings.min_piece) continue;
+        // Only towards another crack (or a border the crack does not reach): a way back to the tip's
+        // own crack would run back through its own damage band and cut out the material beside it;
+        // where such a loop is really needed, the separation pass finds it.
+        if (closer.enclosed_intact(tip, c) != std::numeric_limits<size_t>::max()) continue;
         reached = s;
         target = c;
         break;
@@ -492,31 +487,41 @@ void continue_tips(CrackGraph& graph, CrackIndex& index, const DamageField& fiel
       path.push_back(p);
       std::reverse(path.begin(), path.end());
       const size_t last = path.size() - 1;
-      int from = tip;
-      size_t at = 0;
-      while (at < last) {
+      auto passable = [&](size_t i, size_t j) {
+        return field.damaged_along(path[i], path[j]) &&
+               closer.clear(path[i], path[j], i == 0 ? tip : -1, j == last ? &target : nullptr);
+      };
+      std::vector<size_t> kept{0};
+      bool ok = true;
+      while (ok && kept.back() < last) {
+        const size_t at = kept.back();
         size_t next = at + 1;
-        for (size_t j = last; j > at + 1; --j) {
-          const bool to_target = j == last;
-          if (field.damaged_along(path[at], path[j]) &&
-              closer.clear(path[at], path[j], at == 0 ? tip : -1, to_target ? &target : nullptr)) {
+        for (size_t j = last; j > at + 1; --j)
+          if (passable(at, j)) {
             next = j;
             break;
           }
-        }
-        if (next == last) {
-          closer.land(from, target);
-        } else {
-          const Point d = (path[next] - path[at]).normalized();
-          if (segment_hits_sample(path[at], path[next], pts, field.grid()))
-            path[next] += settings.sample_clearance * Point(-d.y(), d.x());
-          const int v = closer.add_vertex(path[next]);
+        ok = next > at + 1 || passable(at, next);  // give up rather than add a segment that cuts a crack
+        kept.push_back(next);
+      }
+      if (!ok) {
+        reached = -1;
+      } else {
+        int from = tip;
+        for (size_t k = 1; k < kept.size(); ++k) {
+          if (kept[k] == last) {
+            closer.land(from, target);
+            break;
+          }
+          Point q = path[kept[k]];
+          const Point d = (q - path[kept[k - 1]]).normalized();
+          if (segment_hits_sample(path[kept[k - 1]], q, pts, field.grid())) q += settings.sample_clearance * Point(-d.y(), d.x());
+          const int v = closer.add_vertex(q);
           closer.add_edge(from, v);
           from = v;
         }
-        at = next;
       }
-      ++stats.continuations;
+      if (reached >= 0) ++stats.continuations;
     }
     for (int s : touched) {
       dist[s] = std::numeric_limits<double>::infinity();

@@ -7,7 +7,8 @@
 //    (the medial axis of the damaged material between them) become crack segments;
 //  - continue_tips: a crack tip inside fully damaged material is continued along the shortest way
 //    through that material (straightened) to another crack, a cut or the border, when one lies within
-//    `continuation_reach`: the two flanks of the crack are otherwise still linked around the tip;
+//    `continuation_reach` and the link closes no loop with the tip's own crack: the two flanks of the
+//    crack are otherwise still linked around the tip;
 //  - join_tips: a crack tip within one simulation cell of another crack, a prescribed cut or the patch
 //    border is joined to it by the shortest straight segment, when that segment runs through fully
 //    damaged material and does not close a loop around less than one cell of intact material.

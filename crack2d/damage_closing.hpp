@@ -11,6 +11,10 @@
 //  - pocket filling: a group of intact samples (neighbours within `neighbour_radius`) enclosed by damage
 //    and holding at most `max_pocket` samples (less than a cell of material) counts as damaged; a crack
 //    around it would only cut off a sliver.
+// Neither fills intact material at the patch edge (samples flagged in `at_edge`, those closer to the edge
+// than the closing radius): beyond the edge there is no damage, so a gap between a damaged zone and the
+// edge is no gap in the damage, and an intact patch at the edge (a pinned corner, say) that damage
+// cuts off from the rest stays intact, to be cut off by the crack.
 // Both are monotone (a larger input set gives a larger output set), so the regularised set grows with
 // c_his exactly like the raw one. Deterministic: samples are visited in input order.
 #include "crack2d/sample_neighbours.hpp"
@@ -21,8 +25,9 @@ namespace shellfrac::crack2d {
 
 // disc: neighbours within the closing radius r (null: no closing); adjacency: neighbours that make
 // intact samples one group; max_pocket: groups with at most this many samples are filled (0: none);
-// damaged: 1 where c_his reached 1.
+// at_edge: samples that are never filled; damaged: 1 where c_his reached 1.
 std::vector<unsigned char> close_damage(const std::vector<unsigned char>& damaged, const SampleNeighbours* disc,
-                                        const SampleNeighbours& adjacency, size_t max_pocket);
+                                        const SampleNeighbours& adjacency, size_t max_pocket,
+                                        const std::vector<char>& at_edge);
 
 }  // namespace shellfrac::crack2d

@@ -10,7 +10,7 @@ namespace shellfrac::crack2d {
 
 namespace {
 constexpr double kLatticeSteps = 268435456.0;  // 2^28 across the larger domain side
-constexpr double kNodeMergeFraction = 1e-9;   // of the larger domain side
+constexpr double kNodeMergeFraction = 1e-7;   // of the larger domain side (about 27 lattice steps)
 constexpr double kOriginShiftU = 0.3183;      // lattice origin offset, in steps (see SeedLattice)
 constexpr double kOriginShiftV = 0.6180;
 
