@@ -12,6 +12,22 @@ namespace shellfrac::output {
 
 namespace {
 
+// Leaves out the faces with a vertex marked in `drop`; vertices stay (the vertex count of a frame depends on
+// the crack graph only).
+void drop_faces_touching(render_mesh::PolyMesh& mesh, const std::vector<unsigned char>& drop) {
+  std::vector<int> offsets{0}, vertices;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const int b = mesh.face_offsets[static_cast<size_t>(f)], e = mesh.face_offsets[static_cast<size_t>(f) + 1];
+    bool keep = true;
+    for (int k = b; k < e; ++k) keep = keep && !drop[static_cast<size_t>(mesh.face_vertices[static_cast<size_t>(k)])];
+    if (!keep) continue;
+    vertices.insert(vertices.end(), mesh.face_vertices.begin() + b, mesh.face_vertices.begin() + e);
+    offsets.push_back(static_cast<int>(vertices.size()));
+  }
+  mesh.face_offsets = std::move(offsets);
+  mesh.face_vertices = std::move(vertices);
+}
+
 // Cracked patch (thesis sec. 4.9, Algorithm 5): split the R x S grid along the crack, give each side its
 // own shadow vertices, and place them with MLS near the crack and NURBS elsewhere.
 render_mesh::PolyMesh cracked_mesh(const sim::Simulation& sim, size_t i, const crack2d::CrackGraph& graph,
@@ -29,16 +45,26 @@ render_mesh::PolyMesh cracked_mesh(const sim::Simulation& sim, size_t i, const c
   settings.shadow_offset = model.cracks.shadow_offset;
   const render_mesh::ParameterMesh mesh = render_mesh::separate_crack_vertices(
       render_mesh::split_parameter_grid(domain, segments, settings), settings.shadow_offset);
+  // Every vertex on its own side of the crack (the basis chain of docs/mls.md); a vertex in a piece too
+  // small to carry any basis has no position, and the faces touching it are left out (counted in
+  // metrics.cracks.basis as removed material).
   std::vector<Eigen::Vector3d> positions(mesh.uv.size());
+  std::vector<unsigned char> removed(mesh.uv.size(), 0);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.uv.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
-    shell::MlsBasis work;
-    for (size_t k = r.begin(); k != r.end(); ++k) positions[k] = patch.position_at(mesh.uv[k], work);
+    shell::BasisChainWork work;
+    for (size_t k = r.begin(); k != r.end(); ++k) {
+      const shell::ShellPatch::SurfacePoint p = patch.surface_point(mesh.uv[k], work);
+      positions[k] = p.position;
+      removed[k] = p.level == shell::BasisLevel::Removed;
+    }
   });
   if (rest) {
     rest->resize(mesh.uv.size());
     tbb::parallel_for(size_t{0}, mesh.uv.size(), [&](size_t k) { (*rest)[k] = ref.point(mesh.uv[k].x(), mesh.uv[k].y()); });
   }
-  return render_mesh::assemble_render_mesh(mesh, domain, std::move(positions), {}, sim.world().shell_name(i));
+  render_mesh::PolyMesh out = render_mesh::assemble_render_mesh(mesh, domain, std::move(positions), {}, sim.world().shell_name(i));
+  if (std::find(removed.begin(), removed.end(), 1) != removed.end()) drop_faces_touching(out, removed);
+  return out;
 }
 
 std::vector<render_mesh::PolyMesh> meshes_of(const sim::Simulation& sim, std::vector<std::vector<Eigen::Vector3d>>* rest) {

@@ -101,6 +101,33 @@ CrackReport crack_report(const sim::Simulation& sim) {
     r.max_damage = std::max(r.max_damage, p.fractures() ? p.max_damage() : 0.0);
   }
   if (!c.first_mls_failure.empty()) r.first_mls_failure = c.first_mls_failure;
+  if (!c.first_sliver.empty()) r.first_sliver = c.first_sliver;
+  shell::BasisCensus total;
+  for (size_t i = 0; i < sim.world().num_shells(); ++i) {
+    const shell::BasisCensus& b = sim.world().shell(i).census();
+    for (int l = 0; l < shell::kNumBasisLevels; ++l) {
+      total.points[static_cast<size_t>(l)] += b.points[static_cast<size_t>(l)];
+      total.shear[static_cast<size_t>(l)] += b.shear[static_cast<size_t>(l)];
+    }
+    total.nudged += b.nudged;
+    total.membrane_only += b.membrane_only;
+    total.rigid_area += b.rigid_area;
+    total.rigid_mass += b.rigid_mass;
+    total.removed_area += b.removed_area;
+    total.removed_mass += b.removed_mass;
+  }
+  for (int l = 0; l < shell::kNumBasisLevels; ++l) {
+    const char* name = shell::basis_level_name(static_cast<shell::BasisLevel>(l));
+    r.basis_points.emplace_back(name, total.points[static_cast<size_t>(l)]);
+    r.basis_shear.emplace_back(name, total.shear[static_cast<size_t>(l)]);
+  }
+  r.nudged = total.nudged;
+  r.membrane_only = total.membrane_only;
+  r.slivers = total.slivers();
+  r.rigid_area = total.rigid_area;
+  r.rigid_mass = total.rigid_mass;
+  r.removed_area = total.removed_area;
+  r.removed_mass = total.removed_mass;
   return r;
 }
 
@@ -168,7 +195,15 @@ Summary make_summary(const sim::Simulation& sim, const FrameWriter& frames, int 
 }
 
 // What a user should look at before rendering the frames.
-void warn_about_mesh(const MeshReport& m, std::ostream& log) {
+void warn_about_run(const Summary& s, std::ostream& log) {
+  if (s.metrics.cracks && s.metrics.cracks->mls_failures > 0)
+    log << "warning: " << s.metrics.cracks->mls_failures << " point(s) near cracks were left without a basis ("
+        << s.metrics.cracks->first_mls_failure.value_or("") << "); see metrics.cracks.mls_failures in docs/cli.md\n";
+  if (s.metrics.cracks && s.metrics.cracks->slivers > 0)
+    log << "warning: " << s.metrics.cracks->slivers << " point(s) lie in crack-isolated pieces too small for a basis ("
+        << s.metrics.cracks->rigid_area << " m^2 rigid, " << s.metrics.cracks->removed_area
+        << " m^2 removed; first: " << s.metrics.cracks->first_sliver.value_or("") << ")\n";
+  const MeshReport& m = s.metrics.mesh;
   if (m.sliver_count > 0)
     log << "warning: the last frame has " << m.sliver_count << " sliver(s) smaller than a grid cell (" << m.sliver_area
         << " m^2 in all; metrics.slivers)\n";
@@ -213,7 +248,7 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
   }
   progress.finish(std::to_string(last_frame + 1) + " frames, " + std::to_string(sim.steps()) + " steps");
   const Summary summary = finish("completed", "");
-  warn_about_mesh(summary.metrics.mesh, log);
+  warn_about_run(summary, log);
   return summary;
 }
 

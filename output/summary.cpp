@@ -48,6 +48,13 @@ Json cracks_json(const CrackReport& c) {
             {"seam_continuations", c.seam_continuations},
             {"max_damage", c.max_damage}};
   if (c.first_mls_failure) j["first_mls_failure"] = *c.first_mls_failure;
+  Json points = Json::object(), shear = Json::object();
+  for (const auto& [level, n] : c.basis_points) points[level] = n;
+  for (const auto& [level, n] : c.basis_shear) shear[level] = n;
+  j["basis"] = {{"points", points},           {"shear_particles", shear},    {"nudged", c.nudged},
+                {"membrane_only", c.membrane_only}, {"slivers", c.slivers}, {"rigid_area", c.rigid_area},
+                {"rigid_mass", c.rigid_mass},   {"removed_area", c.removed_area}, {"removed_mass", c.removed_mass}};
+  if (c.first_sliver) j["basis"]["first_sliver"] = *c.first_sliver;
   return j;
 }
 
@@ -109,6 +116,17 @@ CrackReport cracks_from(const Json& j) {
   c.seam_continuations = get<size_t>(j, "seam_continuations");
   c.max_damage = get<double>(j, "max_damage");
   c.first_mls_failure = get_optional<std::string>(j, "first_mls_failure");
+  const Json& basis = field(j, "basis");
+  for (const auto& [level, n] : field(basis, "points").items()) c.basis_points.emplace_back(level, n.get<size_t>());
+  for (const auto& [level, n] : field(basis, "shear_particles").items()) c.basis_shear.emplace_back(level, n.get<size_t>());
+  c.nudged = get<size_t>(basis, "nudged");
+  c.membrane_only = get<size_t>(basis, "membrane_only");
+  c.slivers = get<size_t>(basis, "slivers");
+  c.rigid_area = get<double>(basis, "rigid_area");
+  c.rigid_mass = get<double>(basis, "rigid_mass");
+  c.removed_area = get<double>(basis, "removed_area");
+  c.removed_mass = get<double>(basis, "removed_mass");
+  c.first_sliver = get_optional<std::string>(basis, "first_sliver");
   return c;
 }
 

@@ -49,6 +49,12 @@ struct CrackReport {
   size_t seam_continuations = 0;
   double max_damage = 0;
   std::optional<std::string> first_mls_failure;
+  // The bases of the points a crack cut off from part of their NURBS support (docs/mls.md, the chain):
+  // in-plane points and shear particles per level, and the material that carries no stress.
+  std::vector<std::pair<std::string, size_t>> basis_points, basis_shear;
+  size_t nudged = 0, membrane_only = 0, slivers = 0;
+  double rigid_area = 0, rigid_mass = 0, removed_area = 0, removed_mass = 0;
+  std::optional<std::string> first_sliver;
 };
 
 // The render mesh of the last frame (metrics.pieces, ...) and the largest stretch seen in any frame.

@@ -1,6 +1,6 @@
 #include "render_mesh/mesh_quality.hpp"
 
-#include <Eigen/Geometry>
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -153,28 +153,45 @@ EdgeStretch max_edge_stretch(const PolyMesh& current, const PolyMesh& rest) {
   return max_edge_stretch(current, rest.positions);
 }
 
+double face_stretch(const std::vector<Vec3>& rest, const std::vector<Vec3>& current) {
+  // Rest polygon in its own plane: the two principal axes of the centred rest corners.
+  const size_t n = rest.size();
+  Vec3 rc = Vec3::Zero(), cc = Vec3::Zero();
+  for (size_t k = 0; k < n; ++k) {
+    rc += rest[k] / static_cast<double>(n);
+    cc += current[k] / static_cast<double>(n);
+  }
+  Eigen::MatrixXd R(static_cast<Eigen::Index>(n), 3), C(static_cast<Eigen::Index>(n), 3);
+  for (size_t k = 0; k < n; ++k) {
+    R.row(static_cast<Eigen::Index>(k)) = (rest[k] - rc).transpose();
+    C.row(static_cast<Eigen::Index>(k)) = (current[k] - cc).transpose();
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> axes(R, Eigen::ComputeThinV);
+  if (axes.singularValues()(1) <= 1e-12 * axes.singularValues()(0) || axes.singularValues()(0) == 0.0) return 0.0;
+  const Eigen::MatrixXd P = R * axes.matrixV().leftCols(2);  // n x 2 rest coordinates
+  // F (3 x 2) minimises sum_k |c_k - F p_k|^2: exact for triangles and for affinely deformed polygons.
+  const Eigen::MatrixXd F = (C.transpose() * P) * (P.transpose() * P).inverse();
+  return Eigen::JacobiSVD<Eigen::MatrixXd>(F).singularValues()(0);
+}
+
 StrandStats strand_area(const PolyMesh& current, const std::vector<Vec3>& rest_positions, double threshold) {
   check_rest(current, rest_positions, "strand_area");
-  // The triangulation is taken in the rest mesh (the UVs when present, else the rest positions), so
-  // it does not depend on the deformation.
-  PolyMesh rest;
-  rest.positions = rest_positions;
-  rest.uvs = current.uvs;
-  rest.face_offsets = current.face_offsets;
-  rest.face_vertices = current.face_vertices;
   StrandStats stats;
+  std::vector<Vec3> rest, now;
   for (int f = 0; f < current.num_faces(); ++f) {
-    double face_stretch = 0.0, area = 0.0;
-    for (const auto& t : face_triangles(rest, f)) {
-      const auto i = static_cast<size_t>(t[0]), j = static_cast<size_t>(t[1]), k = static_cast<size_t>(t[2]);
-      const Vec3 &a = current.positions[i], &b = current.positions[j], &c = current.positions[k];
-      face_stretch = std::max(face_stretch, principal_stretch(rest.positions[i], rest.positions[j], rest.positions[k], a, b, c));
-      area += 0.5 * (b - a).cross(c - a).norm();
+    const int b = current.face_offsets[static_cast<size_t>(f)], e = current.face_offsets[static_cast<size_t>(f) + 1];
+    if (e - b < 3) continue;
+    rest.clear();
+    now.clear();
+    for (int k = b; k < e; ++k) {
+      rest.push_back(rest_positions[static_cast<size_t>(current.face_vertices[static_cast<size_t>(k)])]);
+      now.push_back(current.positions[static_cast<size_t>(current.face_vertices[static_cast<size_t>(k)])]);
     }
-    if (face_stretch > stats.max_principal_stretch) stats.max_principal_stretch = face_stretch, stats.worst_face = f;
-    if (face_stretch > threshold) {
+    const double stretch = face_stretch(rest, now);
+    if (stretch > stats.max_principal_stretch) stats.max_principal_stretch = stretch, stats.worst_face = f;
+    if (stretch > threshold) {
       ++stats.faces;
-      stats.area += area;
+      stats.area += face_area(current, f);
     }
   }
   return stats;

@@ -63,8 +63,14 @@ struct StrandStats {
   int worst_face = -1;
 };
 
-// A face is a strand when the largest principal stretch of any triangle of its triangulation
-// (face_triangles of the rest mesh, which has the current mesh's UVs) exceeds `threshold`.
+// Largest principal stretch of a polygon face: the largest singular value of the affine map F that best
+// takes the rest corners (in their own plane) onto the current ones (least squares over the corners).
+// Exact for a triangle and for an affinely deformed polygon; unlike the map of each triangle of a
+// triangulation, it is not fooled by a thin sub-triangle between two nearly coincident corners (a crack's
+// shadow vertices), whose own map is ill-determined. 0 for a degenerate rest polygon.
+double face_stretch(const std::vector<Vec3>& rest, const std::vector<Vec3>& current);
+
+// A face is a strand when its face_stretch exceeds `threshold`; its current area counts.
 StrandStats strand_area(const PolyMesh& current, const std::vector<Vec3>& rest_positions, double threshold = 3.0);
 StrandStats strand_area(const PolyMesh& current, const PolyMesh& rest, double threshold = 3.0);
 

@@ -91,7 +91,7 @@ CrackSystem::CrackSystem(const scene::Model& model, World& world, double grid_dx
     }
     if (cracks_[i]->graph().num_edges() > 0) {
       const shell::CrackUpdate u = patch.update_crack(cracks_[i]->index(), 0, mls_settings_);
-      record_failure(world, i, u.first_failure);
+      record_update(world, i, u);
     }
   }
   count_state(world);
@@ -105,9 +105,11 @@ bool CrackSystem::any() const {
   return false;
 }
 
-void CrackSystem::record_failure(const World& world, size_t shell, const std::string& failure) {
-  if (stats_.first_mls_failure.empty() && !failure.empty())
-    stats_.first_mls_failure = "shell \"" + world.shell_name(shell) + "\" " + failure;
+void CrackSystem::record_update(const World& world, size_t shell, const shell::CrackUpdate& u) {
+  if (stats_.first_mls_failure.empty() && !u.first_failure.empty())
+    stats_.first_mls_failure = "shell \"" + world.shell_name(shell) + "\" " + u.first_failure;
+  if (stats_.first_sliver.empty() && !u.first_sliver.empty())
+    stats_.first_sliver = "shell \"" + world.shell_name(shell) + "\" " + u.first_sliver;
 }
 
 bool CrackSystem::extract(World& world) {
@@ -130,7 +132,7 @@ bool CrackSystem::extract(World& world) {
       // Only points whose support the new segments touch are rebuilt (thesis sec. 4.6).
       if (cracks_[i]->graph().num_edges() > first) {
         const shell::CrackUpdate u = patch.update_crack(cracks_[i]->index(), first, mls_settings_);
-        record_failure(world, i, u.first_failure);
+        record_update(world, i, u);
       }
     }
     stats_.crack_edges += cracks_[i]->graph().num_edges();
@@ -149,7 +151,7 @@ bool CrackSystem::add_cut(World& world, size_t shell, const Eigen::Vector2d& fro
     return false;
   }
   const shell::CrackUpdate u = world.shell(shell).update_crack(cracks.index(), first, mls_settings_);
-  record_failure(world, shell, u.first_failure);
+  record_update(world, shell, u);
   return true;
 }
 

@@ -24,8 +24,9 @@ struct CrackStats {
   size_t subset_violations = 0;    // extractions whose graph did not contain the previous one (must be 0)
   size_t crack_edges = 0;          // segments in all crack graphs now
   size_t mls_points = 0;           // in-plane points with MLS bases now
-  size_t mls_failures = 0;         // points whose MLS support stayed singular (dropped)
+  size_t mls_failures = 0;         // points left without a basis although their piece could carry one
   std::string first_mls_failure;
+  std::string first_sliver;        // the first point that fell into a piece too small for a basis
   size_t max_split_nodes = 0;      // largest number of grid nodes with phantom copies in one step
   size_t contact_pairs = 0;        // pairwise fragment contacts resolved (Eq. 4.23-4.26), all steps
   double max_contact_residual = 0; // largest approaching velocity left after contact
@@ -67,7 +68,7 @@ class CrackSystem {
   void count_state(const World& world);
 
  private:
-  void record_failure(const World& world, size_t shell, const std::string& failure);
+  void record_update(const World& world, size_t shell, const shell::CrackUpdate& u);
 
   std::vector<std::unique_ptr<crack2d::ConsistentCrackExtractor>> cracks_;  // per shell, null if it cannot crack
   shell::MlsSettings mls_settings_;

@@ -81,6 +81,21 @@ TEST(PrincipalStretch, ThinTriangleStretchedAcrossAndRotatedIn3D) {
   EXPECT_DOUBLE_EQ(principal_stretch(a, b, Vec3(2, 0, 0), a, b, c), 0.0);  // no rest area
 }
 
+// A pentagon with two corners 1e-5 apart (a crack's shadow vertices), moved rigidly plus a small wobble
+// of one of the close corners: the face is not stretched, although the thin triangle between the close
+// corners is (its own map amplifies the 1e-4 wobble over a 1e-5 height).
+TEST(StrandArea, ThinSubTrianglesDoNotMakeAStrand) {
+  const std::vector<Vec3> rest{{1e-5, 0, 0}, {0.01, 0, 0}, {0.01, 0.01, 0}, {0, 0.01, 0}, {0, 0, 0}};
+  std::vector<Vec3> current = rest;
+  for (Vec3& x : current) x = Vec3(x.y(), -x.x(), 0.2);  // rotated and lifted
+  current[0] += Vec3(0, 0, 1e-4);
+  EXPECT_GT(principal_stretch(rest[0], rest[3], rest[4], current[0], current[3], current[4]), 5.0);
+  EXPECT_NEAR(face_stretch(rest, current), 1.0, 0.01);
+  // Exact for an affine map of the whole polygon: stretch 4 along x.
+  for (size_t k = 0; k < rest.size(); ++k) current[k] = Vec3(4 * rest[k].x(), rest[k].y(), 0);
+  EXPECT_NEAR(face_stretch(rest, current), 4.0, 1e-12);
+}
+
 TEST(StrandArea, ThresholdCountsOnlyStretchedFacesWithTheirCurrentArea) {
   // Stretch only the right column of a 2 x 2 grid by 4 along x: 2 faces, current area 2 x (0.5 * 4 * 0.5).
   const PolyMesh rest = square_grid(2);
