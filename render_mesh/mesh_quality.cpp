@@ -130,20 +130,32 @@ double principal_stretch(const Vec3& r0, const Vec3& r1, const Vec3& r2, const V
 
 EdgeStretch max_edge_stretch(const PolyMesh& current, const std::vector<Vec3>& rest) {
   check_rest(current, rest, "max_edge_stretch");
-  EdgeStretch worst;
-  for (int f = 0; f < current.num_faces(); ++f) {
-    const int b = current.face_offsets[static_cast<size_t>(f)], e = current.face_offsets[static_cast<size_t>(f) + 1];
-    if (e - b < 2) continue;
-    const int edges = e - b == 2 ? 1 : e - b;  // a line has one edge, a polygon one per corner
-    for (int k = 0; k < edges; ++k) {
-      const auto u = static_cast<size_t>(current.face_vertices[static_cast<size_t>(b + k)]);
-      const auto v = static_cast<size_t>(current.face_vertices[static_cast<size_t>(b + (k + 1) % (e - b))]);
-      const double rest_length = (rest[v] - rest[u]).norm();
-      if (!(rest_length > 0.0)) continue;
-      const double length = (current.positions[v] - current.positions[u]).norm();
-      if (length / rest_length > worst.ratio) worst = {length / rest_length, f, k, length, rest_length};
+  auto for_each_side = [&](auto&& visit) {
+    for (int f = 0; f < current.num_faces(); ++f) {
+      const int b = current.face_offsets[static_cast<size_t>(f)], e = current.face_offsets[static_cast<size_t>(f) + 1];
+      if (e - b < 2) continue;
+      const int edges = e - b == 2 ? 1 : e - b;  // a line has one edge, a polygon one per corner
+      for (int k = 0; k < edges; ++k) {
+        const auto u = static_cast<size_t>(current.face_vertices[static_cast<size_t>(b + k)]);
+        const auto v = static_cast<size_t>(current.face_vertices[static_cast<size_t>(b + (k + 1) % (e - b))]);
+        visit(f, k, (rest[v] - rest[u]).norm(), (current.positions[v] - current.positions[u]).norm());
+      }
     }
-  }
+  };
+  std::vector<double> rest_lengths;
+  for_each_side([&](int, int, double rest_length, double) {
+    if (rest_length > 0.0) rest_lengths.push_back(rest_length);
+  });
+  if (rest_lengths.empty()) return {};
+  const auto middle = rest_lengths.begin() + static_cast<std::ptrdiff_t>(rest_lengths.size() / 2);
+  std::nth_element(rest_lengths.begin(), middle, rest_lengths.end());
+  const double floor = kShortSideFraction * *middle;
+  EdgeStretch worst;
+  for_each_side([&](int f, int k, double rest_length, double length) {
+    if (!(rest_length > 0.0)) return;
+    const double ratio = length / std::max(rest_length, floor);
+    if (ratio > worst.ratio) worst = {ratio, f, k, length, rest_length};
+  });
   return worst;
 }
 

@@ -49,9 +49,14 @@ struct EdgeStretch {
 };
 
 // Over every render edge (the polygon sides of the mesh, not the diagonals of a triangulation). Edges
-// of zero rest length are skipped. `rest_positions` are the vertices in the rest configuration, with
+// of zero rest length are skipped. A side shorter at rest than kShortSideFraction of the median rest
+// side is measured against that length instead: next to a crack a polygon has sides of 1e-9..1e-5 at
+// rest (its corners on the crack line and their shadows), whose endpoints come from different bases,
+// and a sub-millimetre difference between them would read as a stretch of 1e4 although nothing spans
+// a gap. A side that really spans an opened crack is as long as the gap and still reads large. `rest_positions` are the vertices in the rest configuration, with
 // the mesh's topology (see docs/render-mesh.md for how to evaluate them). Throws std::invalid_argument
 // when the counts differ.
+constexpr double kShortSideFraction = 0.1;
 EdgeStretch max_edge_stretch(const PolyMesh& current, const std::vector<Vec3>& rest_positions);
 // As above with a rest mesh, which must have the same faces (checked).
 EdgeStretch max_edge_stretch(const PolyMesh& current, const PolyMesh& rest);

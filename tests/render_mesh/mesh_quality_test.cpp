@@ -47,6 +47,33 @@ TEST(EdgeStretch, AxisStretchGivesTheFactor) {
   EXPECT_NEAR(max_edge_stretch(deformed(rest, R), rest.positions).ratio, 1.0, 1e-14);
 }
 
+TEST(EdgeStretch, ShortSidesAreMeasuredAgainstATenthOfTheMedianSide) {
+  // A 4 x 4 grid (sides 0.25) plus one pentagon whose two corners are 1e-9 apart at rest, like a crack
+  // vertex and its shadow. Moving one of them by 1e-4 (a basis mismatch far below any visible gap)
+  // would read 1e5 against the rest length; against 0.1 x median = 0.025 it reads 0.004.
+  PolyMesh rest = square_grid(4);
+  const int a = static_cast<int>(rest.positions.size());
+  rest.positions.push_back(Vec3(2.0, 0.0, 0.0));
+  rest.positions.push_back(Vec3(2.0 + 1e-9, 0.0, 0.0));
+  rest.positions.push_back(Vec3(2.25, 0.0, 0.0));
+  rest.positions.push_back(Vec3(2.25, 0.25, 0.0));
+  rest.positions.push_back(Vec3(2.0, 0.25, 0.0));
+  for (int k = 0; k < 5; ++k) rest.uvs.emplace_back(0.0, 0.0);
+  rest.add_face({a, a + 1, a + 2, a + 3, a + 4});
+  PolyMesh current = rest;
+  current.positions[static_cast<size_t>(a + 1)] += Vec3(0.0, 1e-4, 0.0);
+  const EdgeStretch small = max_edge_stretch(current, rest);
+  // The median side is 0.25; the worst side is now a grid side (ratio 1 up to the moved corner's
+  // neighbour side, which changes by 1e-4 / 0.25 relative at most).
+  EXPECT_NEAR(small.ratio, 1.0, 1e-3);
+  // The same short side opened to 0.1 m (a strand across a gap) reads 0.1 / 0.025 = 4.
+  current.positions[static_cast<size_t>(a + 1)] = rest.positions[static_cast<size_t>(a + 1)] + Vec3(0.0, 0.1, 0.0);
+  const EdgeStretch gap = max_edge_stretch(current, rest);
+  EXPECT_NEAR(gap.ratio, std::hypot(0.1, 1e-9) / (kShortSideFraction * 0.25), 1e-9);
+  EXPECT_EQ(gap.face, current.num_faces() - 1);
+  EXPECT_EQ(gap.corner, 0);
+}
+
 TEST(PrincipalStretch, SimpleShearHasTheClosedForm) {
   // x' = x + g y: F = [[1, g], [0, 1]], singular values (sqrt(g^2 + 4) +- g) / 2.
   const PolyMesh rest = square_grid(1);
