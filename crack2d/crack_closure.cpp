@@ -240,7 +240,15 @@ class TipCloser {
   // Intact samples enclosed by a link from the tip to c together with the shortest way back to the tip
   // through the crack (and along the border); SIZE_MAX when there is no such way within the search
   // bound. A link that closes a loop only around damaged material would cut rubble out of the band.
-  size_t enclosed_intact(int tip, const Target& c) {
+  // Intact samples inside the loop that landing `tip` on `c` would close (max() when it closes none),
+  // and whether that loop runs around a corner of the patch (the crack meets one border side and
+  // lands on the adjacent one).
+  struct Enclosure {
+    size_t intact = std::numeric_limits<size_t>::max();
+    bool around_corner = false;
+  };
+  size_t enclosed_intact(int tip, const Target& c) { return enclosure(tip, c).intact; }
+  Enclosure enclosure(int tip, const Target& c) {
     if (tree_tip_ != tip) {
       tree_ = graph_distances(graph_, attached_to_, attachments_, tip, settings_.loop_search);
       tree_tip_ = tip;
@@ -273,7 +281,7 @@ class TipCloser {
         }
       }
     }
-    if (via < 0 || !std::isfinite(best)) return std::numeric_limits<size_t>::max();
+    if (via < 0 || !std::isfinite(best)) return {};
     std::vector<Point> loop{graph_.vertices()[tip], c.q};
     if (use_corner) loop.push_back(corner);
     for (int v = via; v >= 0 && v != tip; v = tree_.previous[v]) loop.push_back(graph_.vertices()[v]);
@@ -283,7 +291,7 @@ class TipCloser {
     field_.grid().for_each_within(0.5 * (lo + hi), 0.5 * (hi - lo).norm(), [&](int i) {
       if (!field_.flags()[i] && inside_polygon(field_.points()[i], loop)) ++intact;
     });
-    return intact;
+    return {intact, use_corner};
   }
 
   // The segment ab touches no crack segment, except the tip's own edges (when a is the tip) and the
@@ -462,8 +470,12 @@ void continue_tips(CrackGraph& graph, CrackIndex& index, const DamageField& fiel
         if (!field.damaged_along(pts[s], c.q) || !closer.clear(pts[s], c.q, -1, &c)) continue;
         // Only towards another crack (or a border the crack does not reach): a way back to the tip's
         // own crack would run back through its own damage band and cut out the material beside it;
-        // where such a loop is really needed, the separation pass finds it.
-        if (closer.enclosed_intact(tip, c) != std::numeric_limits<size_t>::max()) continue;
+        // where such a loop is really needed, the separation pass finds it. The exception is a loop
+        // around a patch corner that encloses no intact sample: a fully damaged corner (the pinned
+        // corner of a torn cloth) has no strength left, and left attached it hangs on as a strand.
+        const TipCloser::Enclosure loop = closer.enclosure(tip, c);
+        const bool damaged_corner = c.kind != 0 && loop.around_corner && loop.intact == 0;
+        if (loop.intact != std::numeric_limits<size_t>::max() && !damaged_corner) continue;
         reached = s;
         target = c;
         break;

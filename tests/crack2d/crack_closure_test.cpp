@@ -266,6 +266,25 @@ TEST(CrackClosure, MultiStepGrowthKeepsEveryEarlierVertexAndEdge) {
   EXPECT_EQ(regions(x).regions, 2);  // the band has crossed the sheet
 }
 
+// A fully damaged patch corner comes off (cloth-two-balls: the pinned corners of a falling cloth). A
+// band grows in from the left border, then damage fills the whole corner below and beside it: the tip
+// continues to the bottom border, and the corner, with no intact sample left, is a piece of its own
+// instead of hanging on to the sheet as a strand. The same band away from any corner cuts nothing off.
+TEST(CrackClosure, FullyDamagedCornerComesOff) {
+  const auto pts = gauss_samples();
+  const double y0 = 1.0 * kCell, hw = 0.6 * kCell;
+  ConsistentCrackExtractor x(kUnit, kSpacing, kCell);
+  x.extract(pts, flags(pts, [&](const Point& p) { return p.x() < 1.2 * kCell && std::abs(p.y() - y0) < hw; }));
+  ASSERT_GE(x.graph().num_edges(), 1u);
+  EXPECT_EQ(regions(x).regions, 1);  // a crack from the border into the sheet separates nothing yet
+  x.extract(pts, flags(pts, [&](const Point& p) { return p.x() < 2.0 * kCell && p.y() < y0 + hw; }));
+  const RegionCount rc = regions(x);
+  EXPECT_EQ(rc.regions, 2);
+  EXPECT_EQ(rc.regions_with_at_least(200 * kProbesPerCell), 1);  // the sheet, and a corner of < 2 cells^2
+  EXPECT_EQ(free_tips(x.graph()), 0);
+  EXPECT_EQ(x.total_subset_violations(), 0u);
+}
+
 // Joins: a crack tip a fraction of a cell short of the border joins it when the ligament is fully
 // damaged, and stays a tip when the ligament is intact.
 TEST(CrackClosure, TipJoinsTheBorderOnlyThroughDamagedMaterial) {
