@@ -1,10 +1,17 @@
 #include "crack2d/consistent_extraction.hpp"
 
+#include "crack2d/crack_closure.hpp"
+#include "crack2d/damage_closing.hpp"
+#include "crack2d/damage_field.hpp"
+#include "crack2d/medial_spurs.hpp"
+#include "crack2d/sample_clearance.hpp"
 #include "crack2d/sample_grid.hpp"
+#include "core/union_find.hpp"
 #include "crack2d/voronoi_medial_axis.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <queue>
@@ -13,6 +20,8 @@
 
 namespace shellfrac::crack2d {
 
+using core::UnionFind;
+
 namespace {
 
 // All distances below are multiples of the sample spacing h (see docs/crack-extraction.md).
@@ -20,14 +29,26 @@ constexpr double kBoundaryRadius = 1.5;      // a damaged sample with an undamag
 constexpr double kOppositeCos = -0.5;        // seed normals more than 120 degrees apart face each other
 constexpr double kDamageProbeStep = 0.5;     // probe spacing along an edge for "inside the damaged region"
 constexpr double kNearestSampleRadius = 3.0; // farther than this from every sample counts as undamaged
-constexpr double kCoveredByHistory = 0.25;   // a new edge whose midpoint is this close to L duplicates L
+constexpr double kCoveredByHistory = 0.25;   // a separating edge whose midpoint is this close to L duplicates L
+constexpr double kSnapRadius = 0.25;         // a Voronoi node this close to an old crack vertex is that vertex
 constexpr double kLinkRadius = 0.75;         // old crack vertices join Voronoi nodes this close
+constexpr double kTipLinkRadius = 2.0;       // old tips join Voronoi nodes this close (tip bridging, Fig. 4.8b)
+constexpr double kTipPreference = 4.0;       // a bridge to an old tip may be this much longer than the shortest
 constexpr double kMaxBridgeLength = 6.0;     // longest Voronoi path accepted as a bridge
 constexpr double kExtensionStep = 0.25;      // march step of a tip extension
 constexpr double kExtensionPiece = 0.5;      // longest segment of a tip extension
 constexpr double kEdgeLigament = 4.0;        // longest damaged ligament from an old tip to the edge
 constexpr double kMinFragment = 1.5;         // shorter isolated medial pieces are noise; shorter tips are not extended
 constexpr double kTipDirectionLength = 3.0;  // crack length behind a tip that sets the extension direction
+constexpr double kSampleClearance = 1e-6;    // shift that moves a new segment off a sample lying on it
+// Closure thresholds, in simulation cells c (see docs/crack-extraction.md).
+constexpr double kClosingRadius = 0.45;      // closing disc radius: fills speckle and notches up to ~a cell
+                                             // (not a lattice distance of a 4 x 4 sampling: 1.8 h)
+constexpr double kJoinReach = 1.0;           // tips this close to a crack, cut or the border join it
+constexpr double kParallelCover = 1.0;       // a new line beside the crack in the same damaged band duplicates it
+constexpr double kSpurProtrusion = 1.0;      // medial branches sticking out of the band by less are spurs
+constexpr double kContinuationReach = 4.0;   // tips inside damage continue through it this far
+constexpr double kLoopSearch = 16.0;         // ways back through the crack longer than this count as no loop
 
 uint64_t pair_key(int a, int b) {
   const auto lo = static_cast<uint64_t>(static_cast<uint32_t>(std::min(a, b)));
@@ -42,53 +63,29 @@ struct Seed {
   int historical = -1; // index in LS, or -1
 };
 
-// "Inside the fully damaged region": the nearest sample point is damaged (thesis sec. 4.4.2).
-class DamageField {
- public:
-  DamageField(const std::vector<Point>& points, const std::vector<unsigned char>& damaged, double h)
-      : points_(points), damaged_(damaged), grid_(points, kBoundaryRadius * h), h_(h) {}
-
-  const SampleGrid& grid() const { return grid_; }
-
-  bool damaged_at(const Point& p) const {
-    const int i = grid_.nearest(p, kNearestSampleRadius * h_);
-    return i >= 0 && damaged_[i] != 0;
+// Boundary of the damaged region, D^c (thesis Table 4.2), in sample order: a damaged sample with an
+// undamaged one within `radius`; its outward normal is the mean direction to those undamaged samples.
+std::vector<Seed> boundary_seeds(const DamageField& field) {
+  std::vector<Seed> seeds;
+  const std::vector<Point>& points = field.points();
+  const std::vector<unsigned char>& damaged = field.flags();
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!damaged[i]) continue;
+    Point outward = Point::Zero();
+    bool boundary = false;
+    field.neighbours().for_each(i, [&](int j) {
+      if (damaged[j]) return;
+      const Point d = points[j] - points[i];
+      const double len = d.norm();
+      if (len > 0.0) outward += d / len;
+      boundary = true;
+    });
+    if (!boundary) continue;
+    const double n = outward.norm();
+    seeds.push_back({points[i], n > 1e-12 ? Point(outward / n) : Point(Point::Zero()), true, -1});
   }
-  bool damaged_along(const Point& a, const Point& b) const {
-    const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / (kDamageProbeStep * h_))));
-    for (int k = 0; k <= steps; ++k)
-      if (!damaged_at(a + (b - a) * (static_cast<double>(k) / steps))) return false;
-    return true;
-  }
-
-  // Boundary of the damaged region, D^c (thesis Table 4.2), in sample order.
-  std::vector<Seed> boundary_seeds() const {
-    std::vector<Seed> seeds;
-    const double radius = kBoundaryRadius * h_;
-    for (size_t i = 0; i < points_.size(); ++i) {
-      if (!damaged_[i]) continue;
-      Point outward = Point::Zero();
-      bool boundary = false;
-      grid_.for_each_within(points_[i], radius, [&](int j) {
-        if (damaged_[j]) return;
-        const Point d = points_[j] - points_[i];
-        const double len = d.norm();
-        if (len > 0.0) outward += d / len;
-        boundary = true;
-      });
-      if (!boundary) continue;
-      const double n = outward.norm();
-      seeds.push_back({points_[i], n > 1e-12 ? Point(outward / n) : Point(Point::Zero()), true, -1});
-    }
-    return seeds;
-  }
-
- private:
-  const std::vector<Point>& points_;
-  const std::vector<unsigned char>& damaged_;
-  SampleGrid grid_;
-  double h_;
-};
+  return seeds;
+}
 
 // Seeds on opposite sides of the damaged band: their outward normals point apart by more than 120
 // degrees and each seed lies behind the other's outward normal, i.e. the damaged band is between them.
@@ -98,31 +95,6 @@ bool on_opposite_sides(const Seed& s, const Seed& t) {
   if (s.normal.isZero() || t.normal.isZero()) return false;
   const Point d = t.position - s.position;
   return s.normal.dot(t.normal) < kOppositeCos && d.dot(s.normal) < 0.0 && d.dot(t.normal) > 0.0;
-}
-
-class UnionFind {
- public:
-  explicit UnionFind(size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
-  int find(int x) {
-    while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
-    return x;
-  }
-  // The smaller root wins so that labels do not depend on union order.
-  int unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a == b) return a;
-    if (b < a) std::swap(a, b);
-    parent_[b] = a;
-    return a;
-  }
-
- private:
-  std::vector<int> parent_;
-};
-
-bool on_domain_boundary(const Point& p, const Box& box, double tol) {
-  return p.x() <= box.lo.x() + tol || p.x() >= box.hi.x() - tol || p.y() <= box.lo.y() + tol || p.y() >= box.hi.y() - tol;
 }
 
 // Walks from a tip along its chain of degree-2 vertices until the walked length reaches `length` or a
@@ -152,10 +124,16 @@ struct WorkingEdge {
 }  // namespace
 
 ConsistentCrackExtractor::ConsistentCrackExtractor(const Box& domain, double spacing)
-    : domain_(domain), spacing_(spacing), index_(domain) {
+    : ConsistentCrackExtractor(domain, spacing, kDefaultSamplesPerCell * spacing) {}
+
+ConsistentCrackExtractor::ConsistentCrackExtractor(const Box& domain, double spacing, double cell)
+    : domain_(domain), spacing_(spacing), cell_(cell), index_(domain) {
   if (!(spacing > 0.0) || !std::isfinite(spacing))
     throw std::invalid_argument("ConsistentCrackExtractor: spacing must be positive and finite, got " +
                                 std::to_string(spacing));
+  if (!(cell >= spacing) || !std::isfinite(cell))
+    throw std::invalid_argument("ConsistentCrackExtractor: cell size must be finite and at least the sample spacing " +
+                                std::to_string(spacing) + ", got " + std::to_string(cell));
   if (!(domain.hi.x() > domain.lo.x()) || !(domain.hi.y() > domain.lo.y()))
     throw std::invalid_argument("ConsistentCrackExtractor: domain must have positive extent");
 }
@@ -183,11 +161,16 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
   const CrackGraph previous = graph_;
   const size_t old_vertices = graph_.num_vertices();
   const size_t old_edges = graph_.num_edges();
-  const DamageField field(points, damaged, h);
+  const SampleCache& cache = samples_for(points);
+  // 0. Regularise the damaged set at the cell scale (closing, pocket filling; crack2d/damage_closing.hpp).
+  const std::vector<unsigned char> regular =
+      close_damage(damaged, &cache.disc, cache.adjacency, samples_per_cell(), cache.at_edge);
+  const DamageField field(cache.points, regular, *cache.grid, cache.adjacency, kNearestSampleRadius * h,
+                          kDamageProbeStep * h);
   const SeedLattice lattice(domain_);
 
   // 1. D' = D^c plus LS (thesis sec. 4.4.2): current boundary seeds first, then historical ones not present.
-  std::vector<Seed> seeds = field.boundary_seeds();
+  std::vector<Seed> seeds = boundary_seeds(field);
   stats.seeds = seeds.size();
   {
     std::vector<char> historical_present(line_seeds_.size(), 0);
@@ -202,7 +185,10 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
       if (!historical_present[k]) seeds.push_back({line_seeds_[k].position, line_seeds_[k].normal, false, static_cast<int>(k)});
   }
   if (seeds.size() < 2) {
-    total_subset_violations_ += graph_.contains(previous) ? 0 : 1;
+    close_graph(field, stats);
+    stats.new_edges = graph_.num_edges() - old_edges;
+    stats.subset_violations = graph_.contains(previous) ? 0 : 1;
+    total_subset_violations_ += stats.subset_violations;
     return stats;
   }
   std::vector<Point> seed_points(seeds.size());
@@ -224,9 +210,12 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
     const Seed& s = seeds[ve.seed_a];
     const Seed& t = seeds[ve.seed_b];
     if (!s.current || !t.current || !on_opposite_sides(s, t)) continue;
+    // The edge must pass between its seeds: its midpoint sees them under at least 90 degrees (it lies in
+    // the disc on the diameter st). Two neighbours on one flank whose noisy normals happen to diverge
+    // (non-uniform Gauss samples) have a long bisector far from both and fail this.
+    if ((0.5 * (a + b) - 0.5 * (s.position + t.position)).norm() > 0.5 * (s.position - t.position).norm()) continue;
     if (s.historical >= 0 && t.historical >= 0 && line_seed_pairs_.count(pair_key(s.historical, t.historical))) continue;
-    const double covered = kCoveredByHistory * h;
-    if (index_.distance(0.5 * (a + b), covered) < covered) continue;
+    if (covered_by_crack(0.5 * (a + b), field)) continue;
     new_line[e] = 1;
   }
 
@@ -240,13 +229,19 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
     for (int v = 0; v < m; ++v) {
       if (graph_.degree(v) == 0) continue;
       const Point& p = graph_.vertices()[v];
-      node_grid.for_each_within(p, kLinkRadius * h, [&](int k) {
-        if ((voronoi.nodes[k] - p).norm() <= weld) {
+      const bool tip = graph_.degree(v) == 1;
+      const double radius = (tip ? kTipLinkRadius : kLinkRadius) * h;
+      node_grid.for_each_within(p, radius, [&](int k) {
+        const double len = (voronoi.nodes[k] - p).norm();
+        // A node this close to an old vertex is that vertex: a link of a fraction of a spacing would
+        // only add a sliver of a segment at a junction.
+        if (len <= kSnapRadius * h) {
           if (alias[k] == k) alias[k] = n + v;
           return;
         }
         if (!field.damaged_along(p, voronoi.nodes[k])) return;
-        const double len = (voronoi.nodes[k] - p).norm();
+        // A longer tip link must not cut through the crack (its own edges touch it at p only).
+        if (len > kLinkRadius * h && index_.crosses(p + (voronoi.nodes[k] - p) * 1e-9, voronoi.nodes[k])) return;
         adjacency[n + v].push_back({k, len, -1});
         adjacency[k].push_back({n + v, len, -1});
       });
@@ -292,6 +287,14 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
     }
   }
 
+  const std::vector<Point> boundary_points = [&] {
+    std::vector<Point> pts;
+    for (const Seed& s : seeds)
+      if (s.current) pts.push_back(s.position);
+    return pts;
+  }();
+  const SampleGrid seed_grid(boundary_points, 2.0 * h);
+
   // Groups: old crack components and new-line pieces.
   UnionFind groups(n + m);
   std::vector<char> active(n + m, 0), has_old(n + m, 0);
@@ -319,7 +322,7 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
   std::vector<double> dist(n + m, std::numeric_limits<double>::infinity());
   std::vector<int> came_from(n + m, -1), came_by(n + m, -1);
   std::vector<int> touched;
-  auto bridge_from = [&](int root) -> bool {
+  auto bridge_from = [&](std::size_t root) -> bool {
     using Item = std::pair<double, int>;
     std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
     for (int k = 0; k < n + m; ++k)
@@ -328,14 +331,29 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
         touched.push_back(k);
         queue.push({0.0, k});
       }
-    int target = -1;
+    // The nearest other group wins, unless an old tip of another group is reachable within
+    // kTipPreference spacings more: a crack grows from its tip (Fig. 4.8b), and joining the stem
+    // behind the tip would leave the last stretch as a dangling tongue beside the new line.
+    int target = -1, tip_target = -1;
+    double target_dist = 0.0;
+    auto is_old_tip = [&](int k) {
+      return k >= n && graph_.degree(k - n) == 1 && !on_box_boundary(graph_.vertices()[k - n], domain_, weld);
+    };
     while (!queue.empty()) {
       const auto [d, k] = queue.top();
       queue.pop();
       if (d > dist[k]) continue;
+      if (target >= 0 && d > target_dist + kTipPreference * h) break;
       if (active[k] && groups.find(k) != root) {
-        target = k;
-        break;
+        if (target < 0) {
+          target = k;
+          target_dist = d;
+        }
+        if (is_old_tip(k)) {
+          tip_target = k;
+          break;
+        }
+        continue;  // other groups are targets, not ways through
       }
       for (const WorkingEdge& w : adjacency[k]) {
         const double nd = d + w.length;
@@ -347,6 +365,7 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
         queue.push({nd, w.to});
       }
     }
+    if (tip_target >= 0) target = tip_target;
     if (target >= 0) {
       const int target_root = groups.find(target);
       const bool to_old = has_old[target_root];
@@ -379,11 +398,55 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
     }
   }
 
+  // Spurs (crack2d/medial_spurs.hpp): short branches into bumps of the band's flank, also those made of
+  // a short fragment and the bridge that attached it. Pruned repeatedly: removing a spur can leave the
+  // branch it hung from as a spur.
+  std::vector<char> keep_line(added_voronoi_edges.size(), 1), keep_link(bridge_links.size(), 1);
+  {
+    std::vector<std::array<int, 2>> edge_nodes;
+    std::vector<double> edge_length;
+    auto position = [&](int k) -> const Point& { return k < n ? voronoi.nodes[k] : graph_.vertices()[k - n]; };
+    for (int e : added_voronoi_edges) edge_nodes.push_back({node_of(voronoi.edges[e].node_a), node_of(voronoi.edges[e].node_b)});
+    for (const Link& l : bridge_links) edge_nodes.push_back({l.from, l.to});
+    for (const auto& en : edge_nodes) edge_length.push_back((position(en[0]) - position(en[1])).norm());
+    std::vector<char> anchored(n + m, 0);
+    std::vector<double> radius(n + m, 0.0);
+    for (int k = 0; k < n + m; ++k) {
+      anchored[k] = k >= n;
+      const int nearest = seed_grid.nearest(position(k), 10.0 * h);
+      radius[k] = nearest >= 0 ? (boundary_points[nearest] - position(k)).norm() : 10.0 * h;
+    }
+    std::vector<char> keep(edge_nodes.size(), 1);
+    for (int pass = 0; pass < 8; ++pass) {
+      const int pruned = prune_spurs(edge_nodes, edge_length, keep, anchored, radius, kSpurProtrusion * cell_);
+      stats.pruned_spurs += static_cast<size_t>(pruned);
+      if (pruned == 0) break;
+    }
+    for (size_t k = 0; k < keep_line.size(); ++k) keep_line[k] = keep[k];
+    for (size_t k = 0; k < keep_link.size(); ++k) keep_link[k] = keep[keep_line.size() + k];
+  }
+
+  // Keep the new segments off the sample points (crack2d/sample_clearance.hpp): only new Voronoi nodes
+  // inside the patch move, by kSampleClearance spacings.
+  std::vector<Point> node_position(n + m);
+  for (int k = 0; k < n + m; ++k) node_position[k] = k < n ? voronoi.nodes[k] : graph_.vertices()[k - n];
+  {
+    std::vector<std::array<int, 2>> kept;
+    for (size_t k = 0; k < added_voronoi_edges.size(); ++k)
+      if (keep_line[k])
+        kept.push_back({node_of(voronoi.edges[added_voronoi_edges[k]].node_a), node_of(voronoi.edges[added_voronoi_edges[k]].node_b)});
+    for (size_t k = 0; k < bridge_links.size(); ++k)
+      if (keep_link[k]) kept.push_back({bridge_links[k].from, bridge_links[k].to});
+    std::vector<char> movable(n + m, 0);
+    for (int k = 0; k < n; ++k) movable[k] = alias[k] == k && !on_box_boundary(voronoi.nodes[k], domain_, weld);
+    clear_samples_off_edges(node_position, kept, movable, cache.points, *cache.grid, kSampleClearance * h);
+  }
+
   // Materialise: new-line edges, then bridges, in discovery order (deterministic).
   std::vector<int> vertex_of(n + m, -1);
   for (int v = 0; v < m; ++v) vertex_of[n + v] = v;
   auto vertex_for = [&](int k) {
-    if (vertex_of[k] < 0) vertex_of[k] = graph_.add_vertex(voronoi.nodes[k]);
+    if (vertex_of[k] < 0) vertex_of[k] = graph_.add_vertex(node_position[k]);
     return vertex_of[k];
   };
   auto remember_seeds = [&](int e) {
@@ -392,11 +455,15 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
     const int b = historical_seed_id(seeds[ve.seed_b].position, seeds[ve.seed_b].normal);
     line_seed_pairs_.insert(pair_key(a, b));
   };
-  for (int e : added_voronoi_edges) {
+  for (size_t k = 0; k < added_voronoi_edges.size(); ++k) {
+    if (!keep_line[k]) continue;
+    const int e = added_voronoi_edges[k];
     graph_.add_edge(vertex_for(node_of(voronoi.edges[e].node_a)), vertex_for(node_of(voronoi.edges[e].node_b)));
     remember_seeds(e);
   }
-  for (const Link& l : bridge_links) {
+  for (size_t k = 0; k < bridge_links.size(); ++k) {
+    if (!keep_link[k]) continue;
+    const Link& l = bridge_links[k];
     graph_.add_edge(vertex_for(l.from), vertex_for(l.to));
     if (l.voronoi_edge >= 0) remember_seeds(l.voronoi_edge);
   }
@@ -405,20 +472,19 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
   // 5. Extend new tips straight through the remaining damaged region (clipped to the domain). An older
   //    tip is extended only when a short, fully damaged ligament joins it to the patch edge: the band
   //    often reaches the edge after its tip was extracted, and no new medial line forms there.
-  const std::vector<Point> boundary_points = [&] {
-    std::vector<Point> pts;
-    for (const Seed& s : seeds)
-      if (s.current) pts.push_back(s.position);
-    return pts;
-  }();
-  const SampleGrid seed_grid(boundary_points, 2.0 * h);
   const size_t vertices_before_extension = graph_.num_vertices();
   for (size_t v = 0; v < vertices_before_extension; ++v) {
     const int tip = static_cast<int>(v);
     const bool old_tip = v < old_vertices;
     if (graph_.degree(tip) != 1) continue;
     const Point p = graph_.vertices()[tip];
-    if (on_domain_boundary(p, domain_, weld)) continue;
+    if (on_box_boundary(p, domain_, weld)) continue;
+    // The end of an earlier join that landed inside a segment is no tip (crack2d/crack_closure.hpp).
+    bool landed = false;
+    for (const uint32_t id : index_.segments_near({p - Point::Constant(weld), p + Point::Constant(weld)}))
+      landed = landed || (graph_.edges()[id][0] != tip && graph_.edges()[id][1] != tip &&
+                          point_segment_distance(p, index_.segment(id)) <= weld);
+    if (landed) continue;
     const Point from = graph_.vertices()[trace_back(graph_, tip, kTipDirectionLength * h)];
     // Only a crack with an established direction is extended; a short stub would point anywhere.
     if ((p - from).norm() < kMinFragment * h) continue;
@@ -451,6 +517,8 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
         Segment s{p, q + dir * (1e-9 * h)};
         clip_segment_to_box(s, domain_);
         q = s.b;
+      } else if (segment_hits_sample(graph_.vertices()[last], q, cache.points, *cache.grid)) {
+        q += kSampleClearance * h * Point(-dir.y(), dir.x());
       }
       const int next = graph_.add_vertex(q);
       graph_.add_edge(last, next);
@@ -460,11 +528,75 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
     index_.add_edges(graph_, index_.num_segments());
   }
 
+  // 6. Closure: separate intact pieces linked by damaged material, join tips to nearby cracks and edges.
+  close_graph(field, stats);
+
   stats.new_edges = graph_.num_edges() - old_edges;
-  // 6. Consistency check (thesis Fig. 4.8): the previous crack must survive exactly.
+  // 7. Consistency check (thesis Fig. 4.8): the previous crack must survive exactly.
   stats.subset_violations = graph_.contains(previous) ? 0 : 1;
   total_subset_violations_ += stats.subset_violations;
   return stats;
+}
+
+bool ConsistentCrackExtractor::covered_by_crack(const Point& p, const DamageField& field) const {
+  const CrackIndex::Nearest near = index_.nearest(p, kParallelCover * cell_);
+  if (near.segment < 0) return false;
+  // Closer than a link radius: a duplicate beside the crack, or a start that overlaps an old tip (which
+  // would make a Z-shaped hook); the bridge from the tip covers that stretch instead.
+  if (near.distance < kLinkRadius * spacing_) return true;
+  // Beside the crack (not ahead of one of its tips) and joined to it through damaged material: the same
+  // damaged band already holds a crack line, and a second one would leave a thin tongue or lens of
+  // material between the two (issue 12: near-parallel branches merge).
+  const auto& ed = graph_.edges()[near.segment];
+  for (int k = 0; k < 2; ++k)
+    if (near.point == graph_.vertices()[ed[k]] && graph_.degree(ed[k]) == 1) return false;
+  return field.damaged_along(p, near.point);
+}
+
+const ConsistentCrackExtractor::SampleCache& ConsistentCrackExtractor::samples_for(const std::vector<Point>& points) {
+  const bool same = samples_ && samples_->points.size() == points.size() &&
+                    (points.empty() || std::memcmp(samples_->points.data(), points.data(), points.size() * sizeof(Point)) == 0);
+  if (!same) {
+    auto cache = std::make_unique<SampleCache>();
+    cache->points = points;
+    cache->grid = std::make_unique<SampleGrid>(cache->points, kBoundaryRadius * spacing_);
+    cache->adjacency = SampleNeighbours(cache->points, *cache->grid, kBoundaryRadius * spacing_);
+    cache->disc = SampleNeighbours(cache->points, *cache->grid, kClosingRadius * cell_);
+    cache->at_edge.resize(points.size());
+    for (size_t i = 0; i < points.size(); ++i) cache->at_edge[i] = on_box_boundary(points[i], domain_, kClosingRadius * cell_);
+    samples_ = std::move(cache);
+  }
+  return *samples_;
+}
+
+size_t ConsistentCrackExtractor::samples_per_cell() const {
+  const double per_side = cell_ / spacing_;
+  return static_cast<size_t>(std::llround(per_side * per_side));
+}
+
+void ConsistentCrackExtractor::close_graph(const DamageField& field, ExtractionStats& stats) {
+  ClosureSettings settings;
+  settings.spacing = spacing_;
+  settings.cell = kJoinReach * cell_;
+  settings.neighbour_radius = kBoundaryRadius * spacing_;
+  settings.covered = kCoveredByHistory * spacing_;
+  settings.loop_search = kLoopSearch * cell_;
+  settings.continuation_reach = kContinuationReach * cell_;
+  settings.sample_clearance = kSampleClearance * spacing_;
+  settings.min_piece = samples_per_cell();
+  settings.weld = 1e-9 * std::max(domain_.hi.x() - domain_.lo.x(), domain_.hi.y() - domain_.lo.y());
+  ClosureStats closure;
+  // Joins first (most gaps are a tip short of a crack or the border), then separation where damaged
+  // material still links two intact pieces, then joins again for the ends of the separating lines.
+  join_tips(graph_, index_, field, domain_, settings, closure);
+  continue_tips(graph_, index_, field, domain_, settings, closure);
+  const size_t before = closure.separating_edges;
+  separate_intact_pieces(graph_, index_, field, domain_, settings, closure);
+  if (closure.separating_edges > before) join_tips(graph_, index_, field, domain_, settings, closure);
+  stats.separating_edges = closure.separating_edges;
+  stats.crack_joins = closure.crack_joins;
+  stats.border_joins = closure.border_joins;
+  stats.continuations = closure.continuations;
 }
 
 }  // namespace shellfrac::crack2d

@@ -128,18 +128,43 @@ bool CrackIndex::touches(const Box& box, size_t first_edge) const {
   return false;
 }
 
-double CrackIndex::distance(const Point& p, double max_distance) const {
-  double best = max_distance;
+std::vector<uint32_t> CrackIndex::segments_near(const Box& box) const {
+  std::vector<uint32_t> ids;
+  if (segments_.empty()) return ids;
+  const double pad_x = kPadFraction * cell_w_, pad_y = kPadFraction * cell_h_;
+  const int c0 = column(box.lo.x() - pad_x), c1 = column(box.hi.x() + pad_x);
+  const int r0 = row(box.lo.y() - pad_y), r1 = row(box.hi.y() + pad_y);
+  for (int r = r0; r <= r1; ++r)
+    for (int c = c0; c <= c1; ++c)
+      for (uint32_t id : cells_[static_cast<size_t>(r) * nx_ + c]) ids.push_back(id);
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
+
+double CrackIndex::distance(const Point& p, double max_distance) const { return nearest(p, max_distance).distance; }
+
+CrackIndex::Nearest CrackIndex::nearest(const Point& p, double max_distance) const {
+  Nearest best{max_distance, -1, p};
   if (segments_.empty()) return best;
   const int pc = column(p.x()), pr = row(p.y());
   const double ring_step = std::min(cell_w_, cell_h_);
   const int max_ring = std::max(nx_, ny_);
   auto scan = [&](int r, int c) {
-    for (uint32_t id : cells_[static_cast<size_t>(r) * nx_ + c]) best = std::min(best, point_segment_distance(p, segments_[id]));
+    for (uint32_t id : cells_[static_cast<size_t>(r) * nx_ + c]) {
+      const Segment& s = segments_[id];
+      const Point d = s.b - s.a;
+      const double len2 = d.squaredNorm();
+      const double t = len2 > 0.0 ? std::clamp((p - s.a).dot(d) / len2, 0.0, 1.0) : 0.0;
+      const Point q = s.a + t * d;
+      const double dist = (q - p).norm();
+      if (dist < best.distance || (dist == best.distance && best.segment >= 0 && static_cast<int>(id) < best.segment))
+        best = {dist, static_cast<int>(id), q};
+    }
   };
   for (int ring = 0; ring <= max_ring; ++ring) {
     // Clamping is 1-Lipschitz in the index, so any segment first seen in ring k is at least (k-1) cells away.
-    if (ring >= 1 && (ring - 1) * ring_step >= best) break;
+    if (ring >= 1 && (ring - 1) * ring_step > best.distance) break;
     const int r_lo = pr - ring, r_hi = pr + ring, c_lo = pc - ring, c_hi = pc + ring;
     for (int r = std::max(r_lo, 0); r <= std::min(r_hi, ny_ - 1); ++r) {
       const bool edge_row = (r == r_lo || r == r_hi);

@@ -31,6 +31,16 @@ class CrackIndex {
   bool touches(const Box& box, size_t first_edge = 0) const;
   // Distance from p to the nearest crack segment, or max_distance if none is closer.
   double distance(const Point& p, double max_distance) const;
+  // The crack point nearest to p within max_distance: distance, segment index (lowest on ties) and the
+  // point; segment -1 (and distance max_distance) when there is none.
+  struct Nearest {
+    double distance;
+    int segment;
+    Point point;
+  };
+  Nearest nearest(const Point& p, double max_distance) const;
+  // Indices of the segments that may meet the closed box (a superset: bucket contents), sorted, unique.
+  std::vector<uint32_t> segments_near(const Box& box) const;
 
   size_t num_segments() const { return segments_.size(); }
   const Segment& segment(size_t i) const { return segments_[i]; }

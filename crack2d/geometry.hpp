@@ -118,6 +118,11 @@ inline bool segment_intersects_box(const Segment& s, const Box& box) {
          segments_intersect(s.a, s.b, p11, p01) || segments_intersect(s.a, s.b, p01, p00);
 }
 
+// p lies within tol of the box's outline (or outside it).
+inline bool on_box_boundary(const Point& p, const Box& box, double tol) {
+  return p.x() <= box.lo.x() + tol || p.x() >= box.hi.x() - tol || p.y() <= box.lo.y() + tol || p.y() >= box.hi.y() - tol;
+}
+
 inline double point_segment_distance(const Point& p, const Segment& s) {
   const Point d = s.b - s.a;
   const double len2 = d.squaredNorm();

@@ -10,7 +10,9 @@ namespace shellfrac::crack2d {
 
 namespace {
 constexpr double kLatticeSteps = 268435456.0;  // 2^28 across the larger domain side
-constexpr double kNodeMergeFraction = 1e-9;   // of the larger domain side
+constexpr double kNodeMergeFraction = 1e-7;   // of the larger domain side (about 27 lattice steps)
+constexpr double kOriginShiftU = 0.3183;      // lattice origin offset, in steps (see SeedLattice)
+constexpr double kOriginShiftV = 0.6180;
 
 using BoostPoint = boost::polygon::point_data<int32_t>;
 
@@ -44,9 +46,13 @@ class NodeWelder {
 }  // namespace
 
 SeedLattice::SeedLattice(const Box& domain) {
-  centre = 0.5 * (domain.lo + domain.hi);
   const double side = std::max({domain.hi.x() - domain.lo.x(), domain.hi.y() - domain.lo.y(), 1e-300});
   scale = kLatticeSteps / side;
+  // The lattice origin sits off the domain centre by different fractions of a step in u and v, so
+  // seeds placed symmetrically about the centre or a diagonal do not stay exactly symmetric after
+  // rounding. Otherwise their bisectors run exactly along the symmetry lines, through the quadrature
+  // points, cell centres and Greville points lying there, which then have no side of the crack.
+  centre = 0.5 * (domain.lo + domain.hi) + Point(kOriginShiftU, kOriginShiftV) / scale;
 }
 
 std::array<int32_t, 2> SeedLattice::quantise(const Point& p) const {

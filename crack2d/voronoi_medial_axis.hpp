@@ -6,10 +6,13 @@
 //
 // Quantisation: Boost.Polygon's Voronoi builder is exact for integer sites, so seed coordinates are
 // mapped to a 2^28-step integer lattice spanning the larger side of the domain (about 3.7e-9 of the
-// domain for a unit patch). Seeds closer than one lattice step collapse into one site (the lowest seed
-// index wins). Output vertices are converted back to parameter coordinates in double precision, and
-// vertices closer than kNodeMergeFraction of the domain are merged (grid-like seed sets are cocircular
-// and would otherwise yield zero-length edges).
+// domain for a unit patch). The lattice origin sits off the domain centre by unequal fractions of a step
+// (0.32 in u, 0.62 in v), so seeds placed symmetrically about the centre or a diagonal do not stay exactly
+// symmetric: no bisector runs exactly through the sample points on such a symmetry line. Seeds closer
+// than one lattice step collapse into one site (the lowest seed index wins). Output vertices are
+// converted back to parameter coordinates in double precision, and vertices closer than
+// kNodeMergeFraction (1e-7) of the domain are merged (grid-like seed sets are nearly cocircular and
+// would otherwise yield edges a few lattice steps long).
 #include "crack2d/geometry.hpp"
 
 #include <array>

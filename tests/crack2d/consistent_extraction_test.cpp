@@ -158,7 +158,10 @@ TEST(ConsistentExtraction, BranchingBandGivesJunction) {
   EXPECT_EQ(count_components(g), 1);
   EXPECT_TRUE(has_vertex_near(g, upper, 3 * kH));
   EXPECT_TRUE(has_vertex_near(g, lower, 3 * kH));
-  EXPECT_TRUE(has_vertex_near(g, Point(0, 0.5), 0.5 * kH));
+  // In floating point the stem band |v - 0.5| < 2.5 h holds the sample row v = 0.475 but not v = 0.525,
+  // so its medial axis meets the edge at v = 0.495, exactly h/2 off; the Voronoi lattice (shifted off
+  // the domain centre by a fraction of a 2^-28 step) may put the end a few 1e-9 beyond that.
+  EXPECT_TRUE(has_vertex_near(g, Point(0, 0.5), 0.5 * kH + 1e-7));
 }
 
 TEST(ConsistentExtraction, BranchingBandInOneExtraction) {
