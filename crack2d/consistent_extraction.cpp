@@ -3,20 +3,22 @@
 #include "crack2d/crack_closure.hpp"
 #include "crack2d/damage_closing.hpp"
 #include "crack2d/damage_field.hpp"
+#include "crack2d/group_bridges.hpp"
 #include "crack2d/medial_spurs.hpp"
 #include "crack2d/sample_clearance.hpp"
 #include "crack2d/sample_grid.hpp"
+#include "crack2d/tip_extension.hpp"
 #include "core/union_find.hpp"
 #include "crack2d/voronoi_medial_axis.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <limits>
+#include <memory>
 #include <numeric>
-#include <queue>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace shellfrac::crack2d {
 
@@ -97,31 +99,74 @@ bool on_opposite_sides(const Seed& s, const Seed& t) {
   return s.normal.dot(t.normal) < kOppositeCos && d.dot(s.normal) < 0.0 && d.dot(t.normal) > 0.0;
 }
 
-// Walks from a tip along its chain of degree-2 vertices until the walked length reaches `length` or a
-// junction/end is met. The chord from there to the tip is the crack direction at the tip, which on a
-// staircase-like medial axis of a digitised band is far more faithful than the last Voronoi edge.
-int trace_back(const CrackGraph& g, int tip, double length) {
-  int previous = tip, current = g.other_end(g.incident_edges(tip)[0], tip);
-  double walked = (g.vertices()[current] - g.vertices()[tip]).norm();
-  while (walked < length && g.degree(current) == 2) {
-    const auto& inc = g.incident_edges(current);
-    const int next = g.other_end(inc[0], current) == previous ? g.other_end(inc[1], current) : g.other_end(inc[0], current);
-    walked += (g.vertices()[next] - g.vertices()[current]).norm();
-    previous = current;
-    current = next;
-    if (current == tip) break;  // a closed loop
-  }
-  return current;
-}
+}  // namespace
 
-// Working graph for one extraction: Voronoi nodes [0, n) followed by crack-graph vertices [n, n + m).
-struct WorkingEdge {
-  int to;
-  double length;
-  int voronoi_edge;  // index into VoronoiGraph::edges, or -1 for a straight link to an old vertex
+// The working state of one extract() call, with one member function per stage of the header's list.
+// Its working graph holds the Voronoi nodes [0, n) followed by the previous crack's vertices [n, n + m);
+// a Voronoi node welded to an old vertex is an alias of it. Stages run in the order extract() calls them
+// and only materialise() and extend_tips() change the owner's graph.
+class ConsistentCrackExtractor::Pass {
+ public:
+  Pass(ConsistentCrackExtractor& owner, const SampleCache& cache, const DamageField& field);
+
+  bool collect_seeds(ExtractionStats& stats);  // 1; false when D' has fewer than two seeds
+  void build_voronoi();                        // 2
+  void classify_edges();                       // 3
+  void link_old_vertices();                    // 3
+  void connect_voronoi_edges();                // 3
+  void drop_noise_fragments();                 // 3
+  void group_new_lines();                      // 4
+  void bridge_groups(ExtractionStats& stats);  // 4
+  void drop_spurs(ExtractionStats& stats);     // 4
+  void clear_samples();                        // 4
+  void materialise();                          // 4
+  void extend_tips(ExtractionStats& stats);    // 5
+
+ private:
+  int node_of(int k) const { return alias_[k]; }
+  const Point& position(int k) const { return k < n_ ? voronoi_.nodes[k] : graph_.vertices()[k - n_]; }
+  void remember_seeds(int voronoi_edge);
+
+  ConsistentCrackExtractor& owner_;
+  CrackGraph& graph_;  // the owner's
+  CrackIndex& index_;  // the owner's
+  const Box& domain_;
+  const SampleCache& cache_;
+  const DamageField& field_;
+  const double h_;      // sample spacing
+  const double weld_;   // coincidence tolerance of the parameter plane
+  const int m_;         // vertices of the previous crack
+  const size_t old_edges_;
+  int n_ = 0;           // Voronoi nodes
+
+  std::vector<Seed> seeds_;                   // D' = D^c + LS
+  std::vector<Point> boundary_points_;        // positions of the D^c seeds
+  std::unique_ptr<SampleGrid> boundary_grid_;  // over boundary_points_
+  VoronoiGraph voronoi_;
+  std::vector<char> usable_;    // per Voronoi edge: inside the damaged region
+  std::vector<char> new_line_;  // per Voronoi edge: a new medial line
+  std::vector<int> alias_;      // working node -> the node it is welded to
+  std::vector<std::vector<WorkingEdge>> adjacency_;
+  UnionFind groups_;            // old crack components and new-line pieces
+  std::vector<char> active_, has_old_;  // node on a group; group root holding old crack
+  std::vector<int> added_voronoi_edges_;  // the new lines, in Voronoi edge order
+  std::vector<BridgeLink> bridge_links_;  // in discovery order
+  std::vector<char> keep_line_, keep_link_;  // per added edge / bridge link: survived spur pruning
+  std::vector<Point> node_position_;         // working node positions after sample clearance
 };
 
-}  // namespace
+ConsistentCrackExtractor::Pass::Pass(ConsistentCrackExtractor& owner, const SampleCache& cache,
+                                     const DamageField& field)
+    : owner_(owner),
+      graph_(owner.graph_),
+      index_(owner.index_),
+      domain_(owner.domain_),
+      cache_(cache),
+      field_(field),
+      h_(owner.spacing_),
+      weld_(1e-9 * std::max(domain_.hi.x() - domain_.lo.x(), domain_.hi.y() - domain_.lo.y())),
+      m_(static_cast<int>(graph_.num_vertices())),
+      old_edges_(graph_.num_edges()) {}
 
 ConsistentCrackExtractor::ConsistentCrackExtractor(const Box& domain, double spacing)
     : ConsistentCrackExtractor(domain, spacing, kDefaultSamplesPerCell * spacing) {}
@@ -157,377 +202,29 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
     throw std::invalid_argument("ConsistentCrackExtractor::extract: " + std::to_string(points.size()) +
                                 " points but " + std::to_string(damaged.size()) + " damage flags");
   ExtractionStats stats;
-  const double h = spacing_;
   const CrackGraph previous = graph_;
-  const size_t old_vertices = graph_.num_vertices();
   const size_t old_edges = graph_.num_edges();
   const SampleCache& cache = samples_for(points);
-  // 0. Regularise the damaged set at the cell scale (closing, pocket filling; crack2d/damage_closing.hpp).
+  // 0. Regularise the damaged set at the cell scale (closing, pocket filling; crack2d/damage_closing.hpp),
+  //    so that seeds follow the damaged band and not the speckle and notches of a single cell.
   const std::vector<unsigned char> regular =
       close_damage(damaged, &cache.disc, cache.adjacency, samples_per_cell(), cache.at_edge);
-  const DamageField field(cache.points, regular, *cache.grid, cache.adjacency, kNearestSampleRadius * h,
-                          kDamageProbeStep * h);
-  const SeedLattice lattice(domain_);
-
-  // 1. D' = D^c plus LS (thesis sec. 4.4.2): current boundary seeds first, then historical ones not present.
-  std::vector<Seed> seeds = boundary_seeds(field);
-  stats.seeds = seeds.size();
-  {
-    std::vector<char> historical_present(line_seeds_.size(), 0);
-    for (Seed& s : seeds) {
-      auto it = line_seed_by_key_.find(SeedLattice::key(lattice.quantise(s.position)));
-      if (it != line_seed_by_key_.end()) {
-        s.historical = it->second;
-        historical_present[it->second] = 1;
-      }
-    }
-    for (size_t k = 0; k < line_seeds_.size(); ++k)
-      if (!historical_present[k]) seeds.push_back({line_seeds_[k].position, line_seeds_[k].normal, false, static_cast<int>(k)});
+  const DamageField field(cache.points, regular, *cache.grid, cache.adjacency, kNearestSampleRadius * spacing_,
+                          kDamageProbeStep * spacing_);
+  Pass pass(*this, cache, field);
+  if (pass.collect_seeds(stats)) {  // 1. D' = D^c + LS (a Voronoi diagram needs two seeds)
+    pass.build_voronoi();           // 2. Voronoi diagram of D'
+    pass.classify_edges();          // 3. usable edges and new lines,
+    pass.link_old_vertices();       //    the previous crack welded and linked to the Voronoi nodes,
+    pass.connect_voronoi_edges();   //    the usable Voronoi edges joined in,
+    pass.drop_noise_fragments();    //    short isolated new lines dropped as noise
+    pass.group_new_lines();         // 4. groups of new lines,
+    pass.bridge_groups(stats);      //    bridged to old tips and other groups,
+    pass.drop_spurs(stats);         //    spurs pruned,
+    pass.clear_samples();           //    new nodes moved off the samples,
+    pass.materialise();             //    and added to the crack graph
+    pass.extend_tips(stats);        // 5. tips continued straight through the damage
   }
-  if (seeds.size() < 2) {
-    close_graph(field, stats);
-    stats.new_edges = graph_.num_edges() - old_edges;
-    stats.subset_violations = graph_.contains(previous) ? 0 : 1;
-    total_subset_violations_ += stats.subset_violations;
-    return stats;
-  }
-  std::vector<Point> seed_points(seeds.size());
-  for (size_t i = 0; i < seeds.size(); ++i) seed_points[i] = seeds[i].position;
-
-  // 2. Voronoi diagram of D', clipped to the patch (Fig. 4.7b).
-  const VoronoiGraph voronoi = build_voronoi_graph(seed_points, domain_);
-  const int n = static_cast<int>(voronoi.nodes.size());
-  const int m = static_cast<int>(old_vertices);
-
-  // 3. Classify Voronoi edges: usable (inside the damaged region) and new medial lines (Fig. 4.8a).
-  std::vector<char> usable(voronoi.edges.size(), 0), new_line(voronoi.edges.size(), 0);
-  for (size_t e = 0; e < voronoi.edges.size(); ++e) {
-    const auto& ve = voronoi.edges[e];
-    const Point& a = voronoi.nodes[ve.node_a];
-    const Point& b = voronoi.nodes[ve.node_b];
-    if (!field.damaged_along(a, b)) continue;
-    usable[e] = 1;
-    const Seed& s = seeds[ve.seed_a];
-    const Seed& t = seeds[ve.seed_b];
-    if (!s.current || !t.current || !on_opposite_sides(s, t)) continue;
-    // The edge must pass between its seeds: its midpoint sees them under at least 90 degrees (it lies in
-    // the disc on the diameter st). Two neighbours on one flank whose noisy normals happen to diverge
-    // (non-uniform Gauss samples) have a long bisector far from both and fail this.
-    if ((0.5 * (a + b) - 0.5 * (s.position + t.position)).norm() > 0.5 * (s.position - t.position).norm()) continue;
-    if (s.historical >= 0 && t.historical >= 0 && line_seed_pairs_.count(pair_key(s.historical, t.historical))) continue;
-    if (covered_by_crack(0.5 * (a + b), field)) continue;
-    new_line[e] = 1;
-  }
-
-  // Voronoi nodes that coincide with old crack vertices are the same node (exact tip continuation).
-  const double weld = 1e-9 * std::max(domain_.hi.x() - domain_.lo.x(), domain_.hi.y() - domain_.lo.y());
-  std::vector<int> alias(n + m);
-  std::iota(alias.begin(), alias.end(), 0);
-  std::vector<std::vector<WorkingEdge>> adjacency(n + m);
-  {
-    const SampleGrid node_grid(voronoi.nodes, kLinkRadius * h);
-    for (int v = 0; v < m; ++v) {
-      if (graph_.degree(v) == 0) continue;
-      const Point& p = graph_.vertices()[v];
-      const bool tip = graph_.degree(v) == 1;
-      const double radius = (tip ? kTipLinkRadius : kLinkRadius) * h;
-      node_grid.for_each_within(p, radius, [&](int k) {
-        const double len = (voronoi.nodes[k] - p).norm();
-        // A node this close to an old vertex is that vertex: a link of a fraction of a spacing would
-        // only add a sliver of a segment at a junction.
-        if (len <= kSnapRadius * h) {
-          if (alias[k] == k) alias[k] = n + v;
-          return;
-        }
-        if (!field.damaged_along(p, voronoi.nodes[k])) return;
-        // A longer tip link must not cut through the crack (its own edges touch it at p only).
-        if (len > kLinkRadius * h && index_.crosses(p + (voronoi.nodes[k] - p) * 1e-9, voronoi.nodes[k])) return;
-        adjacency[n + v].push_back({k, len, -1});
-        adjacency[k].push_back({n + v, len, -1});
-      });
-    }
-  }
-  auto node_of = [&](int k) { return alias[k]; };
-  // Links attached to an aliased Voronoi node move to its crack vertex.
-  for (int k = 0; k < n; ++k) {
-    if (alias[k] == k) continue;
-    for (const WorkingEdge& w : adjacency[k]) adjacency[alias[k]].push_back(w);
-    adjacency[k].clear();
-  }
-  for (size_t e = 0; e < voronoi.edges.size(); ++e) {
-    if (!usable[e]) continue;
-    const int a = node_of(voronoi.edges[e].node_a), b = node_of(voronoi.edges[e].node_b);
-    if (a == b) continue;
-    const double len = (voronoi.nodes[voronoi.edges[e].node_a] - voronoi.nodes[voronoi.edges[e].node_b]).norm();
-    adjacency[a].push_back({b, len, static_cast<int>(e)});
-    adjacency[b].push_back({a, len, static_cast<int>(e)});
-  }
-  for (auto& list : adjacency)  // links were appended in node-grid order; fix an order independent of it
-    for (auto& w : list) w.to = node_of(w.to);
-
-  // Medial fragments shorter than kMinFragment with no contact to the old crack are sampling noise (they
-  // appear at band caps and where the sample spacing jumps); dropping them keeps spurs out of the graph.
-  {
-    UnionFind fragments(n + m);
-    for (const auto& ed : graph_.edges()) fragments.unite(n + ed[0], n + ed[1]);
-    std::vector<double> fragment_length(n + m, 0.0);
-    std::vector<char> touches_old(n + m, 0);
-    for (size_t e = 0; e < voronoi.edges.size(); ++e)
-      if (new_line[e]) fragments.unite(node_of(voronoi.edges[e].node_a), node_of(voronoi.edges[e].node_b));
-    for (size_t e = 0; e < voronoi.edges.size(); ++e)
-      if (new_line[e])
-        fragment_length[fragments.find(node_of(voronoi.edges[e].node_a))] +=
-            (voronoi.nodes[voronoi.edges[e].node_a] - voronoi.nodes[voronoi.edges[e].node_b]).norm();
-    for (int v = 0; v < m; ++v)
-      if (graph_.degree(v) > 0) touches_old[fragments.find(n + v)] = 1;
-    for (size_t e = 0; e < voronoi.edges.size(); ++e) {
-      if (!new_line[e]) continue;
-      const int root = fragments.find(node_of(voronoi.edges[e].node_a));
-      if (!touches_old[root] && fragment_length[root] < kMinFragment * h) new_line[e] = 0;
-    }
-  }
-
-  const std::vector<Point> boundary_points = [&] {
-    std::vector<Point> pts;
-    for (const Seed& s : seeds)
-      if (s.current) pts.push_back(s.position);
-    return pts;
-  }();
-  const SampleGrid seed_grid(boundary_points, 2.0 * h);
-
-  // Groups: old crack components and new-line pieces.
-  UnionFind groups(n + m);
-  std::vector<char> active(n + m, 0), has_old(n + m, 0);
-  for (const auto& ed : graph_.edges()) groups.unite(n + ed[0], n + ed[1]);
-  for (int v = 0; v < m; ++v)
-    if (graph_.degree(v) > 0) active[n + v] = 1;
-  std::vector<int> added_voronoi_edges;
-  for (size_t e = 0; e < voronoi.edges.size(); ++e) {
-    if (!new_line[e]) continue;
-    const int a = node_of(voronoi.edges[e].node_a), b = node_of(voronoi.edges[e].node_b);
-    if (a == b) continue;
-    groups.unite(a, b);
-    active[a] = active[b] = 1;
-    added_voronoi_edges.push_back(static_cast<int>(e));
-  }
-  for (int v = 0; v < m; ++v)
-    if (active[n + v]) has_old[groups.find(n + v)] = 1;
-
-  // 4. Bridges (Fig. 4.8b, c): connect each new group to its nearest other group along Voronoi edges.
-  struct Link {
-    int from, to;
-    int voronoi_edge;
-  };
-  std::vector<Link> bridge_links;
-  std::vector<double> dist(n + m, std::numeric_limits<double>::infinity());
-  std::vector<int> came_from(n + m, -1), came_by(n + m, -1);
-  std::vector<int> touched;
-  auto bridge_from = [&](std::size_t root) -> bool {
-    using Item = std::pair<double, int>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-    for (int k = 0; k < n + m; ++k)
-      if (active[k] && groups.find(k) == root) {
-        dist[k] = 0.0;
-        touched.push_back(k);
-        queue.push({0.0, k});
-      }
-    // The nearest other group wins, unless an old tip of another group is reachable within
-    // kTipPreference spacings more: a crack grows from its tip (Fig. 4.8b), and joining the stem
-    // behind the tip would leave the last stretch as a dangling tongue beside the new line.
-    int target = -1, tip_target = -1;
-    double target_dist = 0.0;
-    auto is_old_tip = [&](int k) {
-      return k >= n && graph_.degree(k - n) == 1 && !on_box_boundary(graph_.vertices()[k - n], domain_, weld);
-    };
-    while (!queue.empty()) {
-      const auto [d, k] = queue.top();
-      queue.pop();
-      if (d > dist[k]) continue;
-      if (target >= 0 && d > target_dist + kTipPreference * h) break;
-      if (active[k] && groups.find(k) != root) {
-        if (target < 0) {
-          target = k;
-          target_dist = d;
-        }
-        if (is_old_tip(k)) {
-          tip_target = k;
-          break;
-        }
-        continue;  // other groups are targets, not ways through
-      }
-      for (const WorkingEdge& w : adjacency[k]) {
-        const double nd = d + w.length;
-        if (nd > kMaxBridgeLength * h || nd >= dist[w.to]) continue;
-        if (std::isinf(dist[w.to])) touched.push_back(w.to);
-        dist[w.to] = nd;
-        came_from[w.to] = k;
-        came_by[w.to] = w.voronoi_edge;
-        queue.push({nd, w.to});
-      }
-    }
-    if (tip_target >= 0) target = tip_target;
-    if (target >= 0) {
-      const int target_root = groups.find(target);
-      const bool to_old = has_old[target_root];
-      const bool to_tip = target >= n && graph_.degree(target - n) == 1;
-      for (int k = target; dist[k] > 0.0; k = came_from[k]) {
-        bridge_links.push_back({came_from[k], k, came_by[k]});
-        active[k] = 1;
-        groups.unite(k, came_from[k]);
-      }
-      const int merged = groups.unite(root, target_root);
-      has_old[merged] = has_old[merged] || to_old;
-      if (to_old && to_tip)
-        ++stats.tip_bridges;
-      else
-        ++stats.branch_links;
-    }
-    for (int k : touched) {
-      dist[k] = std::numeric_limits<double>::infinity();
-      came_from[k] = came_by[k] = -1;
-    }
-    touched.clear();
-    return target >= 0;
-  };
-  // A new group keeps linking while another group is reachable through the damaged region, so a crack
-  // that runs into two older ones (merging, Fig. 4.8c) joins both. Every success merges two groups, so
-  // this terminates.
-  for (int e : added_voronoi_edges) {
-    const int start = node_of(voronoi.edges[e].node_a);
-    while (bridge_from(groups.find(start))) {
-    }
-  }
-
-  // Spurs (crack2d/medial_spurs.hpp): short branches into bumps of the band's flank, also those made of
-  // a short fragment and the bridge that attached it. Pruned repeatedly: removing a spur can leave the
-  // branch it hung from as a spur.
-  std::vector<char> keep_line(added_voronoi_edges.size(), 1), keep_link(bridge_links.size(), 1);
-  {
-    std::vector<std::array<int, 2>> edge_nodes;
-    std::vector<double> edge_length;
-    auto position = [&](int k) -> const Point& { return k < n ? voronoi.nodes[k] : graph_.vertices()[k - n]; };
-    for (int e : added_voronoi_edges) edge_nodes.push_back({node_of(voronoi.edges[e].node_a), node_of(voronoi.edges[e].node_b)});
-    for (const Link& l : bridge_links) edge_nodes.push_back({l.from, l.to});
-    for (const auto& en : edge_nodes) edge_length.push_back((position(en[0]) - position(en[1])).norm());
-    std::vector<char> anchored(n + m, 0);
-    std::vector<double> radius(n + m, 0.0);
-    for (int k = 0; k < n + m; ++k) {
-      anchored[k] = k >= n;
-      const int nearest = seed_grid.nearest(position(k), 10.0 * h);
-      radius[k] = nearest >= 0 ? (boundary_points[nearest] - position(k)).norm() : 10.0 * h;
-    }
-    std::vector<char> keep(edge_nodes.size(), 1);
-    for (int pass = 0; pass < 8; ++pass) {
-      const int pruned = prune_spurs(edge_nodes, edge_length, keep, anchored, radius, kSpurProtrusion * cell_);
-      stats.pruned_spurs += static_cast<size_t>(pruned);
-      if (pruned == 0) break;
-    }
-    for (size_t k = 0; k < keep_line.size(); ++k) keep_line[k] = keep[k];
-    for (size_t k = 0; k < keep_link.size(); ++k) keep_link[k] = keep[keep_line.size() + k];
-  }
-
-  // Keep the new segments off the sample points (crack2d/sample_clearance.hpp): only new Voronoi nodes
-  // inside the patch move, by kSampleClearance spacings.
-  std::vector<Point> node_position(n + m);
-  for (int k = 0; k < n + m; ++k) node_position[k] = k < n ? voronoi.nodes[k] : graph_.vertices()[k - n];
-  {
-    std::vector<std::array<int, 2>> kept;
-    for (size_t k = 0; k < added_voronoi_edges.size(); ++k)
-      if (keep_line[k])
-        kept.push_back({node_of(voronoi.edges[added_voronoi_edges[k]].node_a), node_of(voronoi.edges[added_voronoi_edges[k]].node_b)});
-    for (size_t k = 0; k < bridge_links.size(); ++k)
-      if (keep_link[k]) kept.push_back({bridge_links[k].from, bridge_links[k].to});
-    std::vector<char> movable(n + m, 0);
-    for (int k = 0; k < n; ++k) movable[k] = alias[k] == k && !on_box_boundary(voronoi.nodes[k], domain_, weld);
-    clear_samples_off_edges(node_position, kept, movable, cache.points, *cache.grid, kSampleClearance * h);
-  }
-
-  // Materialise: new-line edges, then bridges, in discovery order (deterministic).
-  std::vector<int> vertex_of(n + m, -1);
-  for (int v = 0; v < m; ++v) vertex_of[n + v] = v;
-  auto vertex_for = [&](int k) {
-    if (vertex_of[k] < 0) vertex_of[k] = graph_.add_vertex(node_position[k]);
-    return vertex_of[k];
-  };
-  auto remember_seeds = [&](int e) {
-    const auto& ve = voronoi.edges[e];
-    const int a = historical_seed_id(seeds[ve.seed_a].position, seeds[ve.seed_a].normal);
-    const int b = historical_seed_id(seeds[ve.seed_b].position, seeds[ve.seed_b].normal);
-    line_seed_pairs_.insert(pair_key(a, b));
-  };
-  for (size_t k = 0; k < added_voronoi_edges.size(); ++k) {
-    if (!keep_line[k]) continue;
-    const int e = added_voronoi_edges[k];
-    graph_.add_edge(vertex_for(node_of(voronoi.edges[e].node_a)), vertex_for(node_of(voronoi.edges[e].node_b)));
-    remember_seeds(e);
-  }
-  for (size_t k = 0; k < bridge_links.size(); ++k) {
-    if (!keep_link[k]) continue;
-    const Link& l = bridge_links[k];
-    graph_.add_edge(vertex_for(l.from), vertex_for(l.to));
-    if (l.voronoi_edge >= 0) remember_seeds(l.voronoi_edge);
-  }
-  index_.add_edges(graph_, old_edges);
-
-  // 5. Extend new tips straight through the remaining damaged region (clipped to the domain). An older
-  //    tip is extended only when a short, fully damaged ligament joins it to the patch edge: the band
-  //    often reaches the edge after its tip was extracted, and no new medial line forms there.
-  const size_t vertices_before_extension = graph_.num_vertices();
-  for (size_t v = 0; v < vertices_before_extension; ++v) {
-    const int tip = static_cast<int>(v);
-    const bool old_tip = v < old_vertices;
-    if (graph_.degree(tip) != 1) continue;
-    const Point p = graph_.vertices()[tip];
-    if (on_box_boundary(p, domain_, weld)) continue;
-    // The end of an earlier join that landed inside a segment is no tip (crack2d/crack_closure.hpp).
-    bool landed = false;
-    for (const uint32_t id : index_.segments_near({p - Point::Constant(weld), p + Point::Constant(weld)}))
-      landed = landed || (graph_.edges()[id][0] != tip && graph_.edges()[id][1] != tip &&
-                          point_segment_distance(p, index_.segment(id)) <= weld);
-    if (landed) continue;
-    const Point from = graph_.vertices()[trace_back(graph_, tip, kTipDirectionLength * h)];
-    // Only a crack with an established direction is extended; a short stub would point anywhere.
-    if ((p - from).norm() < kMinFragment * h) continue;
-    const Point dir = (p - from).normalized();
-    const int nearest_seed = seed_grid.nearest(p, 10.0 * h);
-    const double radius = nearest_seed >= 0 ? (boundary_points[nearest_seed] - p).norm() : 0.0;
-    const double max_length = old_tip ? kEdgeLigament * h : 1.5 * radius + h;
-    double reached = 0.0;
-    bool hit_edge = false;
-    for (double t = kExtensionStep * h; t <= max_length + 1e-12; t += kExtensionStep * h) {
-      Segment step{p + dir * reached, p + dir * t};
-      const bool inside = box_contains(domain_, step.b);
-      if (!inside) {
-        if (!clip_segment_to_box(step, domain_)) break;
-      }
-      if (!field.damaged_at(step.b)) break;
-      if (index_.crosses(step.a + dir * (1e-6 * h), step.b)) break;
-      reached = (step.b - p).norm();
-      if (!inside) {
-        hit_edge = true;
-        break;
-      }
-    }
-    if (reached <= 0.0 || (old_tip && !hit_edge)) continue;
-    const int pieces = std::max(1, static_cast<int>(std::ceil(reached / (kExtensionPiece * h))));
-    int last = tip;
-    for (int k = 1; k <= pieces; ++k) {
-      Point q = p + dir * (reached * k / pieces);
-      if (hit_edge && k == pieces) {  // land exactly on the patch edge
-        Segment s{p, q + dir * (1e-9 * h)};
-        clip_segment_to_box(s, domain_);
-        q = s.b;
-      } else if (segment_hits_sample(graph_.vertices()[last], q, cache.points, *cache.grid)) {
-        q += kSampleClearance * h * Point(-dir.y(), dir.x());
-      }
-      const int next = graph_.add_vertex(q);
-      graph_.add_edge(last, next);
-      last = next;
-    }
-    ++stats.tip_extensions;
-    index_.add_edges(graph_, index_.num_segments());
-  }
-
   // 6. Closure: separate intact pieces linked by damaged material, join tips to nearby cracks and edges.
   close_graph(field, stats);
 
@@ -536,6 +233,269 @@ ExtractionStats ConsistentCrackExtractor::extract(const std::vector<Point>& poin
   stats.subset_violations = graph_.contains(previous) ? 0 : 1;
   total_subset_violations_ += stats.subset_violations;
   return stats;
+}
+
+// 1. D' = D^c plus LS (thesis sec. 4.4.2): the current boundary seeds first, then the historical seeds
+//    not among them. With LS in the diagram, the old lines' Voronoi edges reappear between the same seed
+//    pairs, which classify_edges() recognises and skips, instead of shifted duplicates of the old lines.
+bool ConsistentCrackExtractor::Pass::collect_seeds(ExtractionStats& stats) {
+  const SeedLattice lattice(domain_);
+  seeds_ = boundary_seeds(field_);
+  stats.seeds = seeds_.size();
+  std::vector<char> historical_present(owner_.line_seeds_.size(), 0);
+  for (Seed& s : seeds_) {
+    auto it = owner_.line_seed_by_key_.find(SeedLattice::key(lattice.quantise(s.position)));
+    if (it != owner_.line_seed_by_key_.end()) {
+      s.historical = it->second;
+      historical_present[it->second] = 1;
+    }
+  }
+  for (size_t k = 0; k < owner_.line_seeds_.size(); ++k)
+    if (!historical_present[k])
+      seeds_.push_back({owner_.line_seeds_[k].position, owner_.line_seeds_[k].normal, false, static_cast<int>(k)});
+  if (seeds_.size() < 2) return false;
+  // The distance to the nearest D^c seed is the local half-width of the band (spurs, tip extensions).
+  for (const Seed& s : seeds_)
+    if (s.current) boundary_points_.push_back(s.position);
+  boundary_grid_ = std::make_unique<SampleGrid>(boundary_points_, 2.0 * h_);
+  return true;
+}
+
+// 2. Voronoi diagram of D', clipped to the patch (Fig. 4.7b): its edges are the candidate crack lines.
+void ConsistentCrackExtractor::Pass::build_voronoi() {
+  std::vector<Point> seed_points(seeds_.size());
+  for (size_t i = 0; i < seeds_.size(); ++i) seed_points[i] = seeds_[i].position;
+  voronoi_ = build_voronoi_graph(seed_points, domain_);
+  n_ = static_cast<int>(voronoi_.nodes.size());
+}
+
+// 3. Classify Voronoi edges: usable ones lie inside the damaged region (the ways bridges may take); new
+//    medial lines (Fig. 4.8a) separate two current seeds across the band and repeat no crack already there.
+void ConsistentCrackExtractor::Pass::classify_edges() {
+  usable_.assign(voronoi_.edges.size(), 0);
+  new_line_.assign(voronoi_.edges.size(), 0);
+  for (size_t e = 0; e < voronoi_.edges.size(); ++e) {
+    const auto& ve = voronoi_.edges[e];
+    const Point& a = voronoi_.nodes[ve.node_a];
+    const Point& b = voronoi_.nodes[ve.node_b];
+    if (!field_.damaged_along(a, b)) continue;
+    usable_[e] = 1;
+    const Seed& s = seeds_[ve.seed_a];
+    const Seed& t = seeds_[ve.seed_b];
+    if (!s.current || !t.current || !on_opposite_sides(s, t)) continue;
+    // The edge must pass between its seeds: its midpoint sees them under at least 90 degrees (it lies in
+    // the disc on the diameter st). Two neighbours on one flank whose noisy normals happen to diverge
+    // (non-uniform Gauss samples) have a long bisector far from both and fail this.
+    if ((0.5 * (a + b) - 0.5 * (s.position + t.position)).norm() > 0.5 * (s.position - t.position).norm()) continue;
+    if (s.historical >= 0 && t.historical >= 0 &&
+        owner_.line_seed_pairs_.count(pair_key(s.historical, t.historical)))
+      continue;
+    if (owner_.covered_by_crack(0.5 * (a + b), field_)) continue;
+    new_line_[e] = 1;
+  }
+}
+
+// 3. The previous crack's vertices enter the working graph. Voronoi nodes that coincide with an old
+//    vertex become that vertex (exact tip continuation); nearby nodes get a straight link through the
+//    damaged region, from old tips over a longer reach (tip bridging, Fig. 4.8b).
+void ConsistentCrackExtractor::Pass::link_old_vertices() {
+  alias_.resize(n_ + m_);
+  std::iota(alias_.begin(), alias_.end(), 0);
+  adjacency_.resize(n_ + m_);
+  const SampleGrid node_grid(voronoi_.nodes, kLinkRadius * h_);
+  for (int v = 0; v < m_; ++v) {
+    if (graph_.degree(v) == 0) continue;
+    const Point& p = graph_.vertices()[v];
+    const bool tip = graph_.degree(v) == 1;
+    const double radius = (tip ? kTipLinkRadius : kLinkRadius) * h_;
+    node_grid.for_each_within(p, radius, [&](int k) {
+      const double len = (voronoi_.nodes[k] - p).norm();
+      // A node this close to an old vertex is that vertex: a link of a fraction of a spacing would
+      // only add a sliver of a segment at a junction.
+      if (len <= kSnapRadius * h_) {
+        if (alias_[k] == k) alias_[k] = n_ + v;
+        return;
+      }
+      if (!field_.damaged_along(p, voronoi_.nodes[k])) return;
+      // A longer tip link must not cut through the crack (its own edges touch it at p only).
+      if (len > kLinkRadius * h_ && index_.crosses(p + (voronoi_.nodes[k] - p) * 1e-9, voronoi_.nodes[k])) return;
+      adjacency_[n_ + v].push_back({k, len, -1});
+      adjacency_[k].push_back({n_ + v, len, -1});
+    });
+  }
+}
+
+// 3. The usable Voronoi edges join the working graph between their (welded) ends; links attached to a
+//    welded Voronoi node move to its crack vertex.
+void ConsistentCrackExtractor::Pass::connect_voronoi_edges() {
+  for (int k = 0; k < n_; ++k) {
+    if (alias_[k] == k) continue;
+    for (const WorkingEdge& w : adjacency_[k]) adjacency_[alias_[k]].push_back(w);
+    adjacency_[k].clear();
+  }
+  for (size_t e = 0; e < voronoi_.edges.size(); ++e) {
+    if (!usable_[e]) continue;
+    const int a = node_of(voronoi_.edges[e].node_a), b = node_of(voronoi_.edges[e].node_b);
+    if (a == b) continue;
+    const double len = (voronoi_.nodes[voronoi_.edges[e].node_a] - voronoi_.nodes[voronoi_.edges[e].node_b]).norm();
+    adjacency_[a].push_back({b, len, static_cast<int>(e)});
+    adjacency_[b].push_back({a, len, static_cast<int>(e)});
+  }
+  for (auto& list : adjacency_)  // links were appended in node-grid order; fix an order independent of it
+    for (auto& w : list) w.to = node_of(w.to);
+}
+
+// 3. Medial fragments shorter than kMinFragment with no contact to the old crack are sampling noise (they
+//    appear at band caps and where the sample spacing jumps); dropping them keeps spurs out of the graph.
+void ConsistentCrackExtractor::Pass::drop_noise_fragments() {
+  UnionFind fragments(n_ + m_);
+  for (const auto& ed : graph_.edges()) fragments.unite(n_ + ed[0], n_ + ed[1]);
+  std::vector<double> fragment_length(n_ + m_, 0.0);
+  std::vector<char> touches_old(n_ + m_, 0);
+  for (size_t e = 0; e < voronoi_.edges.size(); ++e)
+    if (new_line_[e]) fragments.unite(node_of(voronoi_.edges[e].node_a), node_of(voronoi_.edges[e].node_b));
+  for (size_t e = 0; e < voronoi_.edges.size(); ++e)
+    if (new_line_[e])
+      fragment_length[fragments.find(node_of(voronoi_.edges[e].node_a))] +=
+          (voronoi_.nodes[voronoi_.edges[e].node_a] - voronoi_.nodes[voronoi_.edges[e].node_b]).norm();
+  for (int v = 0; v < m_; ++v)
+    if (graph_.degree(v) > 0) touches_old[fragments.find(n_ + v)] = 1;
+  for (size_t e = 0; e < voronoi_.edges.size(); ++e) {
+    if (!new_line_[e]) continue;
+    const int root = fragments.find(node_of(voronoi_.edges[e].node_a));
+    if (!touches_old[root] && fragment_length[root] < kMinFragment * h_) new_line_[e] = 0;
+  }
+}
+
+// 4. Groups: the old crack components and the pieces of new lines, the units that bridges join. The
+//    surviving new lines become the first edges to add, in Voronoi edge order.
+void ConsistentCrackExtractor::Pass::group_new_lines() {
+  groups_ = UnionFind(n_ + m_);
+  active_.assign(n_ + m_, 0);
+  has_old_.assign(n_ + m_, 0);
+  for (const auto& ed : graph_.edges()) groups_.unite(n_ + ed[0], n_ + ed[1]);
+  for (int v = 0; v < m_; ++v)
+    if (graph_.degree(v) > 0) active_[n_ + v] = 1;
+  for (size_t e = 0; e < voronoi_.edges.size(); ++e) {
+    if (!new_line_[e]) continue;
+    const int a = node_of(voronoi_.edges[e].node_a), b = node_of(voronoi_.edges[e].node_b);
+    if (a == b) continue;
+    groups_.unite(a, b);
+    active_[a] = active_[b] = 1;
+    added_voronoi_edges_.push_back(static_cast<int>(e));
+  }
+  for (int v = 0; v < m_; ++v)
+    if (active_[n_ + v]) has_old_[groups_.find(n_ + v)] = 1;
+}
+
+// 4. Bridges (crack2d/group_bridges.hpp, Fig. 4.8b, c): each new group is joined along damaged Voronoi
+//    edges to its nearest other group, preferring an old tip inside the patch.
+void ConsistentCrackExtractor::Pass::bridge_groups(ExtractionStats& stats) {
+  BridgeSettings settings;
+  settings.max_length = kMaxBridgeLength * h_;
+  settings.tip_preference = kTipPreference * h_;
+  std::vector<char> old_end(n_ + m_, 0), preferred_tip(n_ + m_, 0);
+  for (int v = 0; v < m_; ++v) {
+    old_end[n_ + v] = graph_.degree(v) == 1;
+    preferred_tip[n_ + v] = old_end[n_ + v] && !on_box_boundary(graph_.vertices()[v], domain_, weld_);
+  }
+  GroupBridges bridges(adjacency_, groups_, active_, has_old_, std::move(old_end), std::move(preferred_tip),
+                       settings);
+  for (int e : added_voronoi_edges_) bridges.bridge_group_of(node_of(voronoi_.edges[e].node_a), bridge_links_);
+  stats.tip_bridges += bridges.tip_bridges();
+  stats.branch_links += bridges.branch_links();
+}
+
+// 4. Spurs (crack2d/medial_spurs.hpp): short branches into bumps of the band's flank, also those made of
+//    a short fragment and the bridge that attached it. Pruned repeatedly: removing a spur can leave the
+//    branch it hung from as a spur.
+void ConsistentCrackExtractor::Pass::drop_spurs(ExtractionStats& stats) {
+  keep_line_.assign(added_voronoi_edges_.size(), 1);
+  keep_link_.assign(bridge_links_.size(), 1);
+  std::vector<std::array<int, 2>> edge_nodes;
+  std::vector<double> edge_length;
+  for (int e : added_voronoi_edges_) edge_nodes.push_back({node_of(voronoi_.edges[e].node_a), node_of(voronoi_.edges[e].node_b)});
+  for (const BridgeLink& l : bridge_links_) edge_nodes.push_back({l.from, l.to});
+  for (const auto& en : edge_nodes) edge_length.push_back((position(en[0]) - position(en[1])).norm());
+  std::vector<char> anchored(n_ + m_, 0);
+  std::vector<double> radius(n_ + m_, 0.0);
+  for (int k = 0; k < n_ + m_; ++k) {
+    anchored[k] = k >= n_;
+    const int nearest = boundary_grid_->nearest(position(k), 10.0 * h_);
+    radius[k] = nearest >= 0 ? (boundary_points_[nearest] - position(k)).norm() : 10.0 * h_;
+  }
+  std::vector<char> keep(edge_nodes.size(), 1);
+  for (int sweep = 0; sweep < 8; ++sweep) {
+    const int pruned = prune_spurs(edge_nodes, edge_length, keep, anchored, radius, kSpurProtrusion * owner_.cell_);
+    stats.pruned_spurs += static_cast<size_t>(pruned);
+    if (pruned == 0) break;
+  }
+  for (size_t k = 0; k < keep_line_.size(); ++k) keep_line_[k] = keep[k];
+  for (size_t k = 0; k < keep_link_.size(); ++k) keep_link_[k] = keep[keep_line_.size() + k];
+}
+
+// 4. Keep the new segments off the sample points (crack2d/sample_clearance.hpp: a sample on a segment
+//    would see its control points on neither side). Only new Voronoi nodes inside the patch move, by
+//    kSampleClearance spacings; old vertices and nodes on the patch edge stay.
+void ConsistentCrackExtractor::Pass::clear_samples() {
+  node_position_.resize(n_ + m_);
+  for (int k = 0; k < n_ + m_; ++k) node_position_[k] = k < n_ ? voronoi_.nodes[k] : graph_.vertices()[k - n_];
+  std::vector<std::array<int, 2>> kept;
+  for (size_t k = 0; k < added_voronoi_edges_.size(); ++k)
+    if (keep_line_[k])
+      kept.push_back({node_of(voronoi_.edges[added_voronoi_edges_[k]].node_a), node_of(voronoi_.edges[added_voronoi_edges_[k]].node_b)});
+  for (size_t k = 0; k < bridge_links_.size(); ++k)
+    if (keep_link_[k]) kept.push_back({bridge_links_[k].from, bridge_links_[k].to});
+  std::vector<char> movable(n_ + m_, 0);
+  for (int k = 0; k < n_; ++k) movable[k] = alias_[k] == k && !on_box_boundary(voronoi_.nodes[k], domain_, weld_);
+  clear_samples_off_edges(node_position_, kept, movable, cache_.points, *cache_.grid, kSampleClearance * h_);
+}
+
+// 4. Materialise: the kept new-line edges, then the kept bridges, in discovery order (deterministic). The
+//    seeds of every added Voronoi edge join LS, so the line is never extracted again.
+void ConsistentCrackExtractor::Pass::materialise() {
+  std::vector<int> vertex_of(n_ + m_, -1);
+  for (int v = 0; v < m_; ++v) vertex_of[n_ + v] = v;
+  auto vertex_for = [&](int k) {
+    if (vertex_of[k] < 0) vertex_of[k] = graph_.add_vertex(node_position_[k]);
+    return vertex_of[k];
+  };
+  for (size_t k = 0; k < added_voronoi_edges_.size(); ++k) {
+    if (!keep_line_[k]) continue;
+    const int e = added_voronoi_edges_[k];
+    graph_.add_edge(vertex_for(node_of(voronoi_.edges[e].node_a)), vertex_for(node_of(voronoi_.edges[e].node_b)));
+    remember_seeds(e);
+  }
+  for (size_t k = 0; k < bridge_links_.size(); ++k) {
+    if (!keep_link_[k]) continue;
+    const BridgeLink& l = bridge_links_[k];
+    graph_.add_edge(vertex_for(l.from), vertex_for(l.to));
+    if (l.voronoi_edge >= 0) remember_seeds(l.voronoi_edge);
+  }
+  index_.add_edges(graph_, old_edges_);
+}
+
+void ConsistentCrackExtractor::Pass::remember_seeds(int voronoi_edge) {
+  const auto& ve = voronoi_.edges[voronoi_edge];
+  const int a = owner_.historical_seed_id(seeds_[ve.seed_a].position, seeds_[ve.seed_a].normal);
+  const int b = owner_.historical_seed_id(seeds_[ve.seed_b].position, seeds_[ve.seed_b].normal);
+  owner_.line_seed_pairs_.insert(pair_key(a, b));
+}
+
+// 5. Extend tips straight through the remaining damaged region (crack2d/tip_extension.hpp): the medial
+//    axis stops short of a band's end, and a band that reaches the patch edge must give a crack that does.
+void ConsistentCrackExtractor::Pass::extend_tips(ExtractionStats& stats) {
+  TipExtensionSettings settings;
+  settings.spacing = h_;
+  settings.direction_length = kTipDirectionLength * h_;
+  settings.min_direction = kMinFragment * h_;
+  settings.step = kExtensionStep * h_;
+  settings.piece = kExtensionPiece * h_;
+  settings.edge_ligament = kEdgeLigament * h_;
+  settings.sample_clearance = kSampleClearance * h_;
+  settings.weld = weld_;
+  stats.tip_extensions += crack2d::extend_tips(graph_, index_, field_, domain_, static_cast<size_t>(m_),
+                                               boundary_points_, *boundary_grid_, settings);
 }
 
 bool ConsistentCrackExtractor::covered_by_crack(const Point& p, const DamageField& field) const {

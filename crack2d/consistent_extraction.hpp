@@ -11,12 +11,13 @@
 //  3. new lines: Voronoi edges inside the damaged region whose two seeds are both in D^c, lie on opposite
 //     sides of the band (normals and the 90-degree disc test), are not a historical pair, and do not
 //     duplicate the crack already lying in the same damaged band;
-//  4. bridges: every group of new lines not yet attached is joined along Voronoi cell boundaries
-//     (shortest path over damaged Voronoi edges) to the previous crack, preferring an old tip (tip
-//     bridge, Fig. 4.8b), or to another group (branch link, Fig. 4.8c); spurs are pruned
+//  4. bridges (crack2d/group_bridges.hpp): every group of new lines not yet attached is joined along
+//     Voronoi cell boundaries (shortest path over damaged Voronoi edges) to the previous crack, preferring
+//     an old tip (tip bridge, Fig. 4.8b), or to another group (branch link, Fig. 4.8c); spurs are pruned
 //     (crack2d/medial_spurs.hpp); the seeds of every added Voronoi edge join LS;
 //  5. tips of the new lines are extended straight through the rest of the damaged region (and clipped to
-//     the domain), so a band that reaches the patch edge gives a crack that reaches it too;
+//     the domain), so a band that reaches the patch edge gives a crack that reaches it too
+//     (crack2d/tip_extension.hpp);
 //  6. closure (crack2d/crack_closure.hpp): tips within a cell of a crack, cut or the border join it, and
 //     damaged material that still links two intact pieces is cut along its medial axis;
 //  7. the result is checked to contain the previous graph exactly.
@@ -88,6 +89,8 @@ class ConsistentCrackExtractor {
   // A new medial edge at p duplicates the existing crack (see kParallelCover).
   bool covered_by_crack(const Point& p, const DamageField& field) const;
   void close_graph(const DamageField& field, ExtractionStats& stats);
+  // The working state of one extract() call, one member function per step above (consistent_extraction.cpp).
+  class Pass;
 
   Box domain_;
   double spacing_;

@@ -1,0 +1,101 @@
+#include "crack2d/tip_extension.hpp"
+
+#include "crack2d/sample_clearance.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace shellfrac::crack2d {
+
+namespace {
+
+// Walks from a tip along its chain of degree-2 vertices until the walked length reaches `length` or a
+// junction/end is met. The chord from there to the tip is the crack direction at the tip, which on a
+// staircase-like medial axis of a digitised band is far more faithful than the last Voronoi edge.
+int trace_back(const CrackGraph& g, int tip, double length) {
+  int previous = tip, current = g.other_end(g.incident_edges(tip)[0], tip);
+  double walked = (g.vertices()[current] - g.vertices()[tip]).norm();
+  while (walked < length && g.degree(current) == 2) {
+    const auto& inc = g.incident_edges(current);
+    const int next = g.other_end(inc[0], current) == previous ? g.other_end(inc[1], current) : g.other_end(inc[0], current);
+    walked += (g.vertices()[next] - g.vertices()[current]).norm();
+    previous = current;
+    current = next;
+    if (current == tip) break;  // a closed loop
+  }
+  return current;
+}
+
+// The end of an earlier join that landed inside a segment is no tip (crack2d/crack_closure.hpp).
+bool landed_on_segment(const CrackGraph& graph, const CrackIndex& index, int tip, double weld) {
+  const Point p = graph.vertices()[tip];
+  bool landed = false;
+  for (const uint32_t id : index.segments_near({p - Point::Constant(weld), p + Point::Constant(weld)}))
+    landed = landed || (graph.edges()[id][0] != tip && graph.edges()[id][1] != tip &&
+                        point_segment_distance(p, index.segment(id)) <= weld);
+  return landed;
+}
+
+}  // namespace
+
+size_t extend_tips(CrackGraph& graph, CrackIndex& index, const DamageField& field, const Box& domain,
+                   size_t old_vertices, const std::vector<Point>& band_edge, const SampleGrid& band_edge_grid,
+                   const TipExtensionSettings& settings) {
+  const double h = settings.spacing;
+  size_t extended = 0;
+  const size_t vertices_before_extension = graph.num_vertices();
+  for (size_t v = 0; v < vertices_before_extension; ++v) {
+    const int tip = static_cast<int>(v);
+    const bool old_tip = v < old_vertices;
+    if (graph.degree(tip) != 1) continue;
+    const Point p = graph.vertices()[tip];
+    if (on_box_boundary(p, domain, settings.weld)) continue;
+    if (landed_on_segment(graph, index, tip, settings.weld)) continue;
+    const Point from = graph.vertices()[trace_back(graph, tip, settings.direction_length)];
+    // Only a crack with an established direction is extended; a short stub would point anywhere.
+    if ((p - from).norm() < settings.min_direction) continue;
+    const Point dir = (p - from).normalized();
+    const int nearest_seed = band_edge_grid.nearest(p, 10.0 * h);
+    const double radius = nearest_seed >= 0 ? (band_edge[nearest_seed] - p).norm() : 0.0;
+    const double max_length = old_tip ? settings.edge_ligament : 1.5 * radius + h;
+    // March while the material ahead is damaged and no crack is crossed; stop on the patch edge.
+    double reached = 0.0;
+    bool hit_edge = false;
+    for (double t = settings.step; t <= max_length + 1e-12; t += settings.step) {
+      Segment step{p + dir * reached, p + dir * t};
+      const bool inside = box_contains(domain, step.b);
+      if (!inside) {
+        if (!clip_segment_to_box(step, domain)) break;
+      }
+      if (!field.damaged_at(step.b)) break;
+      if (index.crosses(step.a + dir * (1e-6 * h), step.b)) break;
+      reached = (step.b - p).norm();
+      if (!inside) {
+        hit_edge = true;
+        break;
+      }
+    }
+    if (reached <= 0.0 || (old_tip && !hit_edge)) continue;
+    // Materialise the march in pieces of at most settings.piece, off the sample points.
+    const int pieces = std::max(1, static_cast<int>(std::ceil(reached / settings.piece)));
+    int last = tip;
+    for (int k = 1; k <= pieces; ++k) {
+      Point q = p + dir * (reached * k / pieces);
+      if (hit_edge && k == pieces) {  // land exactly on the patch edge
+        Segment s{p, q + dir * (1e-9 * h)};
+        clip_segment_to_box(s, domain);
+        q = s.b;
+      } else if (segment_hits_sample(graph.vertices()[last], q, field.points(), field.grid())) {
+        q += settings.sample_clearance * Point(-dir.y(), dir.x());
+      }
+      const int next = graph.add_vertex(q);
+      graph.add_edge(last, next);
+      last = next;
+    }
+    ++extended;
+    index.add_edges(graph, index.num_segments());
+  }
+  return extended;
+}
+
+}  // namespace shellfrac::crack2d
