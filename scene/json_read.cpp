@@ -1,13 +1,12 @@
 // The JSON reader of the scene format: walks scene/describe.hpp over a parsed document, checking each
 // value's type and range as it goes and rejecting keys no declaration asked for.
-#include <fstream>
 #include <set>
-#include <sstream>
 
 #include "scene/describe.hpp"
 #include "scene/field_checks.hpp"
 #include "scene/json_io.hpp"
 #include "scene/scene_error.hpp"
+#include "scene/strict_json.hpp"
 
 namespace shellfrac::scene {
 
@@ -58,6 +57,7 @@ class JsonReader {
     if (!v) return;
     if (!v->is_string()) at_.fail(key, "expected a string, got " + json_type_name(*v));
     x = v->get<std::string>();
+    at_.text(key, *x);
   }
   void choice(const std::string& key, Opt<std::string>& x, const std::vector<std::string>& allowed, Need need = kOptional) {
     string(key, x, need);
@@ -152,6 +152,7 @@ class JsonReader {
     if (!v) return;
     if (v->is_string()) {
       x = v->get<std::string>();
+      at_.text(key, std::get<std::string>(*x));
       return;
     }
     if (!v->is_number_integer())
@@ -236,20 +237,6 @@ class JsonReader {
   std::set<std::string> known_;
 };
 
-// Line and column (1-based) of a byte offset, for JSON syntax errors.
-std::string line_col(const std::string& text, size_t offset) {
-  size_t line = 1, col = 1;
-  for (size_t i = 0; i < offset && i < text.size(); ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      col = 1;
-    } else {
-      ++col;
-    }
-  }
-  return "line " + std::to_string(line) + ", column " + std::to_string(col);
-}
-
 }  // namespace
 
 Scene read_scene(const nlohmann::json& document, const std::string& source) {
@@ -262,24 +249,10 @@ Scene read_scene(const nlohmann::json& document, const std::string& source) {
 }
 
 Scene read_scene(const std::string& json_text, const std::string& source) {
-  Json j;
-  try {
-    j = Json::parse(json_text);
-  } catch (const Json::parse_error& e) {
-    // e.byte is one past the offending character.
-    throw SceneError(source, "", "invalid JSON at " + line_col(json_text, e.byte ? e.byte - 1 : 0) + ": " +
-                                     std::string(e.what()));
-  }
-  return read_scene(j, source);
+  return read_scene(parse_json_strictly(json_text, source), source);
 }
 
-Scene load_scene(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(path, "", "cannot open the scene file (does it exist and is it readable?)");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return read_scene(ss.str(), path);
-}
+Scene load_scene(const std::string& path) { return read_scene(read_scene_file(path), path); }
 
 Scene default_scene() { return read_scene(std::string(default_scene_json()), "<built-in default>"); }
 
