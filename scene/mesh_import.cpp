@@ -6,8 +6,12 @@
 
 #include <Eigen/Geometry>
 
+#include <sys/stat.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <stdexcept>
 #include <utility>
@@ -47,6 +51,11 @@ MeshStats mesh_stats(const TriangleMesh& mesh) {
 }
 
 TriangleMesh import_mesh(const std::string& path, double scale, const Eigen::Vector3d& translate) {
+  // Devices, pipes and /proc files would make the importer read without end.
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0) throw std::runtime_error("cannot import mesh: " + std::string(std::strerror(errno)));
+  if (!S_ISREG(info.st_mode) || info.st_size == 0)
+    throw std::runtime_error("cannot import mesh: not a regular, non-empty file");
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(
       path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices);

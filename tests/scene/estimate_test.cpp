@@ -113,6 +113,16 @@ TEST(Estimate, RenderResolutionAndVoxelSizeDriveMemory) {
   EXPECT_THAT(r.message(), HasSubstr("render vertices"));
 }
 
+TEST(Estimate, TinyVoxelSizeIsRefusedBeforeTheLevelSet) {
+  // issue 14: voxel_size 3e-5 grew past 4 GB in OpenVDB; the ellipsoid's area (about 0.6 m^2) over
+  // voxel^2 times the 6-voxel band is billions of voxels.
+  const std::string mesh = std::string(SHELLFRAC_SOURCE_DIR) + "/scenes/meshes/ellipsoid.obj";
+  const SceneError e = refusal(sheet_scene(R"({"type": "flat", "size": [1, 1], "cells": [2, 2]})",
+                                           R"("colliders": [{"shape": "mesh", "file": ")" + mesh + R"(", "voxel_size": 3e-5}], )"));
+  EXPECT_EQ(e.json_path(), "/colliders/0/voxel_size");
+  EXPECT_THAT(e.message(), HasSubstr("level-set voxels"));
+}
+
 TEST(Estimate, TinyGridSpacingCannotHoldTheScene) {
   try {
     estimate_resources(read_scene(sheet_scene(R"({"type": "flat", "size": [1, 1], "cells": [2, 2]})", R"("grid": {"dx": 1e-9}, )"), "t"));
