@@ -14,6 +14,8 @@ namespace {
 
 using Json = nlohmann::json;
 
+const Range kIntRange = Range::closed(-2147483648.0, 2147483647.0);
+
 std::string json_type_name(const Json& v) {
   switch (v.type()) {
     case Json::value_t::null: return "null";
@@ -143,6 +145,8 @@ class JsonReader {
       const Json& c = (*v)[k];
       if (!c.is_array() || c.size() != 2 || !c[0].is_number_integer() || !c[1].is_number_integer())
         at_.fail(key + "/" + std::to_string(k), "expected a control point index pair [i, j]");
+      for (size_t d = 0; d < 2; ++d)  // an int, so that no index wraps around (the build checks the net)
+        at_.number(key + "/" + std::to_string(k) + "/" + std::to_string(d), c[d].get<double>(), kIntRange);
       out.push_back({c[0].get<int>(), c[1].get<int>()});
     }
     x = std::move(out);
@@ -158,6 +162,7 @@ class JsonReader {
     if (!v->is_number_integer())
       at_.fail(key, "expected an integer, got " + json_type_name(*v) +
                         (v->is_number() ? " " + format_value(v->get<double>()) : ""));
+    at_.number(key, v->get<double>(), kIntRange);
     x = v->get<int>();
   }
   void limit(const std::string& key, Opt<VerifyLimit>& x, const Range& r) {

@@ -105,6 +105,14 @@ TEST(StrictJson, ShellNamesAreUnique) {
   EXPECT_EQ(implicit.json_path(), "/shells/1");
 }
 
+TEST(StrictJson, IndicesBeyondAnIntDoNotWrapAround) {
+  // 4294967296 would wrap to control point 0 when narrowed to int.
+  const SceneError e = error_of(sheet("", R"("pins": [{"shell": 0, "control_points": [[4294967296, 0]]}],)"));
+  EXPECT_EQ(e.json_path(), "/pins/0/control_points/0/0");
+  EXPECT_THAT(e.message(), HasSubstr("out of range"));
+  EXPECT_EQ(error_of(sheet("", R"("pins": [{"shell": 4294967296, "region": {}}],)")).json_path(), "/pins/0/shell");
+}
+
 TEST(StrictJson, DegreeAboveTheSolverLimitIsARangeError) {
   const SceneError e = error_of(R"({"shells": [{"patch": {"type": "control_net", "degree": [8, 1],
       "knots_u": [0,0,0,0,0,0,0,0,0,1,1,1,1,1,1,1,1,1], "knots_v": [0, 0, 1, 1],
