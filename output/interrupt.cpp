@@ -1,5 +1,7 @@
 #include "output/interrupt.hpp"
 
+#include <unistd.h>
+
 #include <csignal>
 #include <cstdio>
 
@@ -19,6 +21,10 @@ extern "C" void on_interrupt(int signal) {
     return;
   }
   g_signal = signal;
+  // write() is async-signal-safe; the stream the run logs to is not.
+  static const char kMessage[] = "\nstopping after the current step (Ctrl-C again to stop at once)\n";
+  const ssize_t ignored = ::write(STDERR_FILENO, kMessage, sizeof kMessage - 1);
+  (void)ignored;
 }
 
 }  // namespace

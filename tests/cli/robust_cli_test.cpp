@@ -241,6 +241,30 @@ void interrupt_run(int signal, int expected_exit) {
 TEST(CliRobust, SigintStopsBetweenStepsWithAnInterruptedSummary) { interrupt_run(SIGINT, 130); }
 TEST(CliRobust, SigtermExitsWith143) { interrupt_run(SIGTERM, 143); }
 
+TEST(CliRobust, SecondSigintKillsAtOnce) {
+  // A step of this 96 x 96-cell cloth takes about a second; the second SIGINT is sent as soon as the run
+  // says it will stop after the current step, so it arrives while that step still runs, and the default
+  // action ends the process (killed by SIGINT, no summary).
+  const fs::path d = scratch("twice");
+  std::string text = cloth(R"({"end": 10, "frame_rate": 1})");
+  text.replace(text.find("\"cells\": [8, 8]"), 15, "\"cells\": [96, 96]");
+  std::ofstream(d / "s.json") << text;
+  const pid_t pid = spawn({"run", (d / "s.json").string(), "--threads", "1", "--out", (d / "out").string()}, d / "log");
+  for (int i = 0; i < 600 && !fs::exists(d / "out" / "frames" / "frame_00000.obj"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(fs::exists(d / "out" / "frames" / "frame_00000.obj")) << read_text(d / "log");  // stepping now
+  ::kill(pid, SIGINT);
+  for (int i = 0; i < 20000 && read_text(d / "log").find("stopping after the current step") == std::string::npos; ++i)
+    std::this_thread::sleep_for(std::chrono::microseconds(500));
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  EXPECT_TRUE(WIFSIGNALED(status)) << read_text(d / "log");
+  EXPECT_EQ(WIFSIGNALED(status) ? WTERMSIG(status) : 0, SIGINT);
+  EXPECT_FALSE(fs::exists(d / "out" / "summary.json"));
+  fs::remove_all(d);
+}
+
 TEST(CliRobust, FullDiskStopsTheRunWithExitOneAndNoPartialFile) {
   // Files may not grow past 3000 bytes: frame 0 of this cloth takes 5337 bytes, so its write fails and
   // no frame is kept; with 5800 bytes frame 0 fits and frame 1 (6094 bytes) fails. The summary (about
