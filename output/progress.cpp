@@ -28,13 +28,14 @@ Progress::Progress(std::ostream& out, bool interactive, double total, std::strin
       start_(std::chrono::steady_clock::now()),
       last_draw_(start_) {}
 
+bool Progress::due() const {
+  const double since = std::chrono::duration<double>(std::chrono::steady_clock::now() - last_draw_).count();
+  // Short runs log nothing mid-way; the bar is redrawn at most ten times a second.
+  return since >= (interactive_ ? 0.1 : log_interval_);
+}
+
 void Progress::update(double done, const std::string& detail) {
-  const auto now = std::chrono::steady_clock::now();
-  const double since = std::chrono::duration<double>(now - last_draw_).count();
-  const double min_gap = interactive_ ? 0.1 : log_interval_;
-  if (drawn_ && since < min_gap) return;
-  if (!drawn_ && !interactive_ && since < log_interval_) return;  // short runs log nothing mid-way
-  draw(done, detail, false);
+  if (due()) draw(done, detail, false);
 }
 
 void Progress::finish(const std::string& detail) { draw(total_, detail, true); }

@@ -4,11 +4,13 @@
 #include <tbb/info.h>
 
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <ostream>
 
 #include "core/version.hpp"
 #include "output/frame_render.hpp"
+#include "output/interrupt.hpp"
 #include "output/mesh_metrics.hpp"
 #include "output/progress.hpp"
 #include "output/seam_metrics.hpp"
@@ -29,14 +31,40 @@ std::string frame_stem(int frame) {
   return buf;
 }
 
+void remove_or_throw(const fs::path& p) {
+  std::error_code ec;
+  fs::remove_all(p, ec);
+  if (ec) throw std::runtime_error("cannot remove " + p.string() + ": " + ec.message());
+}
+
+// Makes out_dir/frames/ ready for a run: creates it, removes staging folders that killed runs left
+// (render_mesh::StagingDirectory names them ".staging-*"), and unless `keep_old` removes the frames and
+// summary of an earlier run, so that the folder never holds frames the summary does not list.
+void prepare_output(const fs::path& out_dir, bool keep_old, std::ostream& log) {
+  const fs::path frames = out_dir / "frames";
+  std::error_code ec;
+  fs::create_directories(frames, ec);
+  if (ec) throw std::runtime_error("cannot create output directory " + frames.string() + ": " + ec.message());
+  size_t stale = 0, old = 0;
+  for (const auto& entry : fs::directory_iterator(frames)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(".staging-", 0) == 0) {
+      remove_or_throw(entry.path());
+      ++stale;
+    } else if (!keep_old && name.rfind("frame_", 0) == 0 && entry.is_regular_file()) {
+      remove_or_throw(entry.path());
+      ++old;
+    }
+  }
+  if (!keep_old && fs::exists(out_dir / "summary.json")) remove_or_throw(out_dir / "summary.json");
+  if (stale) log << "removed " << stale << " staging folder(s) left by an interrupted run in " << frames.string() << "\n";
+  if (old) log << "removed " << old << " file(s) of an earlier run from " << frames.string() << " (--keep-old-frames keeps them)\n";
+}
+
 // Writes the frames of a run and keeps what is measured on them.
 class FrameWriter {
  public:
-  FrameWriter(const scene::Model& model, fs::path out_dir) : model_(model), out_dir_(std::move(out_dir)), seams_(model) {
-    std::error_code ec;
-    fs::create_directories(frames_dir(), ec);
-    if (ec) throw std::runtime_error("cannot create output directory " + frames_dir().string() + ": " + ec.message());
-  }
+  FrameWriter(const scene::Model& model, fs::path out_dir) : model_(model), out_dir_(std::move(out_dir)), seams_(model) {}
 
   void write(const sim::Simulation& sim, int frame) {
     auto scope = timer_.time("output");
@@ -217,12 +245,17 @@ void warn_about_run(const Summary& s, std::ostream& log) {
 
 Summary run_scene(const scene::Model& model, const RunOptions& options, std::ostream& log) {
   const auto start = std::chrono::steady_clock::now();
+  if (options.out_dir.empty()) throw core::InputError("the output folder (--out) must not be empty");
+  const double frame_count = std::floor(model.time.end * model.time.frame_rate + 1e-9);
+  if (!(frame_count < INT_MAX))
+    throw core::InputError(model.source + ": /time/end: the run would write more than " + std::to_string(INT_MAX) + " frames");
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
 
   sim::Simulation sim(model);  // may throw SceneError (e.g. dt above the stability bound) before any output
+  prepare_output(options.out_dir, options.keep_old_frames, log);
   FrameWriter frames(model, options.out_dir);
-  const int last_frame = static_cast<int>(std::floor(model.time.end * model.time.frame_rate + 1e-9));
+  const int last_frame = static_cast<int>(frame_count);
   double peak_kinetic = 0;
   auto finish = [&](const std::string& status, const std::string& error) {
     Summary s = make_summary(sim, frames, threads, peak_kinetic, status);
@@ -231,20 +264,56 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
     render_mesh::write_file_atomically(options.out_dir / "summary.json", to_json(s).dump(2) + "\n");
     return s;
   };
+  auto stop_requested = [&] { return interrupt_signal() != 0 || (options.should_stop && options.should_stop()); };
 
   Progress progress(log, options.interactive, model.time.end > 0 ? model.time.end : 1.0, "s");
+  bool stopped = false;
   try {
     frames.write(sim, 0);
-    for (int f = 1; f <= last_frame; ++f) {
-      sim.advance_to(f / model.time.frame_rate);
+    for (int f = 1; f <= last_frame && !stopped; ++f) {
+      // The steps of sim.advance_to, taken here so that progress, callbacks and interrupts see every
+      // step (sim/ does no I/O); advance_to then only lands the clock exactly on the frame time.
+      const double t = f / model.time.frame_rate;
+      while (sim.time() < t - 1e-12 * std::max(1.0, t)) {
+        if (stop_requested()) {
+          stopped = true;
+          break;
+        }
+        const double remaining = t - sim.time();
+        const double n = std::ceil(remaining / sim.stable_dt() - 1e-9);
+        sim.step(n <= 1 ? remaining : remaining / n);
+        if (options.on_step) options.on_step(StepReport{sim.steps(), sim.time(), model.time.end, f, last_frame});
+        if (progress.due())
+          progress.update(sim.time(), "frame " + std::to_string(f) + "/" + std::to_string(last_frame) + ", step " +
+                                          std::to_string(sim.steps()));
+      }
+      if (stopped) break;
+      sim.advance_to(t);
       peak_kinetic = std::max(peak_kinetic, sim.kinetic_energy());
       frames.write(sim, f);
       progress.update(sim.time(), "frame " + std::to_string(f) + "/" + std::to_string(last_frame) + ", step " +
                                       std::to_string(sim.steps()));
+      stopped = stop_requested();
     }
   } catch (const core::NumericalError& e) {
     finish("failed", e.what());
     throw;
+  } catch (const std::exception& e) {
+    // An I/O failure (a full disk, say): the frames written so far stay; record the failure if the disk
+    // still takes a summary, and report the original error either way.
+    try {
+      finish("failed", e.what());
+    } catch (const std::exception&) {
+    }
+    throw;
+  }
+  if (stopped) {
+    const int signal = interrupt_signal();
+    const std::string by = signal ? std::string("by ") + signal_name(signal) : std::string("on request");
+    progress.finish("interrupted " + by + " at t = " + std::to_string(sim.time()) + " s, " +
+                    std::to_string(frames.files().size()) + " frames kept");
+    Summary summary = finish("interrupted", "interrupted " + by + " at t = " + std::to_string(sim.time()) + " s");
+    return summary;
   }
   progress.finish(std::to_string(last_frame + 1) + " frames, " + std::to_string(sim.steps()) + " steps");
   const Summary summary = finish("completed", "");

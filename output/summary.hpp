@@ -90,8 +90,8 @@ struct Metrics {
 struct Summary {
   std::string shellfrac_version, scene, scene_source;
   int threads = 0;
-  std::string status;  // "completed", "failed"
-  std::optional<std::string> error;
+  std::string status;  // "completed", "failed", "interrupted"
+  std::optional<std::string> error;  // why a run failed or stopped
   long steps = 0;
   std::optional<double> dt, dt_min;
   double stable_dt_bound = 0, grid_dx = 0, simulated_seconds = 0;

@@ -73,7 +73,9 @@ void describe(V& v, Patch& p) {
     v.integers("cells", p.cells, kCells, kRequired);
     describe_frame(v, p);
   } else {
-    v.integers("degree", p.degree, Range::closed(1, 10), kRequired);
+    // The shell solver keeps each point's (p+1)(q+1) basis functions on the stack, at most 64
+    // (shell/shell_patch.cpp, kMaxSupport): degree 7 in both directions.
+    v.integers("degree", p.degree, Range::closed(1, 7), kRequired);
     v.number_list("knots_u", p.knots_u, 2, Range::any(), kRequired);
     v.number_list("knots_v", p.knots_v, 2, Range::any(), kRequired);
     v.points3("control_points", p.control_points, kRequired);

@@ -1,6 +1,7 @@
 #include "scene/field_checks.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "scene/scene_error.hpp"
 
@@ -46,6 +47,21 @@ void FieldChecks::point2(const std::string& key, const Vec2& p) const {
 void FieldChecks::point3(const std::string& key, const Vec3& p) const {
   for (size_t d = 0; d < 3; ++d)
     if (!std::isfinite(p[d])) fail(key + "/" + std::to_string(d), "expected a finite number");
+}
+
+void FieldChecks::text(const std::string& key, const std::string& value) const {
+  if (value.size() > kMaxTextBytes)
+    fail(key, "text of " + std::to_string(value.size()) + " bytes is longer than the limit of " +
+                  std::to_string(kMaxTextBytes));
+  for (size_t i = 0; i < value.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(value[i]);
+    if (c < 0x20 || c == 0x7f) {
+      char code[8];
+      std::snprintf(code, sizeof code, "0x%02x", c);
+      fail(key, "contains the control character " + std::string(code) + " at byte " + std::to_string(i) +
+                    " (names and paths must be printable text)");
+    }
+  }
 }
 
 }  // namespace shellfrac::scene

@@ -12,6 +12,8 @@ namespace shellfrac::scene {
 
 inline const char* const kPointMessage = "expected a parameter point [u, v] of two finite numbers";
 
+inline constexpr std::size_t kMaxTextBytes = 4096;
+
 bool is_quality(const std::string& value);
 
 class FieldChecks {
@@ -30,6 +32,9 @@ class FieldChecks {
   void element_count(const std::string& key, size_t count, size_t min_count) const;
   void point2(const std::string& key, const Vec2& p) const;  // both coordinates finite
   void point3(const std::string& key, const Vec3& p) const;  // each coordinate finite (error at key/d)
+  // Names and file paths: no control characters (a newline in a name would break every text format the
+  // name is written into) and at most kMaxTextBytes bytes.
+  void text(const std::string& key, const std::string& value) const;
 
  private:
   std::string file_, path_;

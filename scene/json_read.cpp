@@ -1,19 +1,20 @@
 // The JSON reader of the scene format: walks scene/describe.hpp over a parsed document, checking each
 // value's type and range as it goes and rejecting keys no declaration asked for.
-#include <fstream>
 #include <set>
-#include <sstream>
 
 #include "scene/describe.hpp"
 #include "scene/field_checks.hpp"
 #include "scene/json_io.hpp"
 #include "scene/scene_error.hpp"
+#include "scene/strict_json.hpp"
 
 namespace shellfrac::scene {
 
 namespace {
 
 using Json = nlohmann::json;
+
+const Range kIntRange = Range::closed(-2147483648.0, 2147483647.0);
 
 std::string json_type_name(const Json& v) {
   switch (v.type()) {
@@ -58,6 +59,7 @@ class JsonReader {
     if (!v) return;
     if (!v->is_string()) at_.fail(key, "expected a string, got " + json_type_name(*v));
     x = v->get<std::string>();
+    at_.text(key, *x);
   }
   void choice(const std::string& key, Opt<std::string>& x, const std::vector<std::string>& allowed, Need need = kOptional) {
     string(key, x, need);
@@ -143,6 +145,8 @@ class JsonReader {
       const Json& c = (*v)[k];
       if (!c.is_array() || c.size() != 2 || !c[0].is_number_integer() || !c[1].is_number_integer())
         at_.fail(key + "/" + std::to_string(k), "expected a control point index pair [i, j]");
+      for (size_t d = 0; d < 2; ++d)  // an int, so that no index wraps around (the build checks the net)
+        at_.number(key + "/" + std::to_string(k) + "/" + std::to_string(d), c[d].get<double>(), kIntRange);
       out.push_back({c[0].get<int>(), c[1].get<int>()});
     }
     x = std::move(out);
@@ -152,11 +156,13 @@ class JsonReader {
     if (!v) return;
     if (v->is_string()) {
       x = v->get<std::string>();
+      at_.text(key, std::get<std::string>(*x));
       return;
     }
     if (!v->is_number_integer())
       at_.fail(key, "expected an integer, got " + json_type_name(*v) +
                         (v->is_number() ? " " + format_value(v->get<double>()) : ""));
+    at_.number(key, v->get<double>(), kIntRange);
     x = v->get<int>();
   }
   void limit(const std::string& key, Opt<VerifyLimit>& x, const Range& r) {
@@ -236,20 +242,6 @@ class JsonReader {
   std::set<std::string> known_;
 };
 
-// Line and column (1-based) of a byte offset, for JSON syntax errors.
-std::string line_col(const std::string& text, size_t offset) {
-  size_t line = 1, col = 1;
-  for (size_t i = 0; i < offset && i < text.size(); ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      col = 1;
-    } else {
-      ++col;
-    }
-  }
-  return "line " + std::to_string(line) + ", column " + std::to_string(col);
-}
-
 }  // namespace
 
 Scene read_scene(const nlohmann::json& document, const std::string& source) {
@@ -262,24 +254,10 @@ Scene read_scene(const nlohmann::json& document, const std::string& source) {
 }
 
 Scene read_scene(const std::string& json_text, const std::string& source) {
-  Json j;
-  try {
-    j = Json::parse(json_text);
-  } catch (const Json::parse_error& e) {
-    // e.byte is one past the offending character.
-    throw SceneError(source, "", "invalid JSON at " + line_col(json_text, e.byte ? e.byte - 1 : 0) + ": " +
-                                     std::string(e.what()));
-  }
-  return read_scene(j, source);
+  return read_scene(parse_json_strictly(json_text, source), source);
 }
 
-Scene load_scene(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(path, "", "cannot open the scene file (does it exist and is it readable?)");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return read_scene(ss.str(), path);
-}
+Scene load_scene(const std::string& path) { return read_scene(read_scene_file(path), path); }
 
 Scene default_scene() { return read_scene(std::string(default_scene_json()), "<built-in default>"); }
 

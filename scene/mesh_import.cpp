@@ -4,11 +4,58 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <Eigen/Geometry>
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <map>
 #include <stdexcept>
+#include <utility>
 
 namespace shellfrac::scene {
 
+MeshStats mesh_stats(const TriangleMesh& mesh) {
+  MeshStats s;
+  bool first = true;
+  for (const Eigen::Vector3d& v : mesh.vertices) {
+    if (!v.allFinite()) {
+      ++s.non_finite_vertices;
+      continue;
+    }
+    s.lo = first ? v : s.lo.cwiseMin(v);
+    s.hi = first ? v : s.hi.cwiseMax(v);
+    first = false;
+  }
+  // Each undirected edge counted over the triangles: 2 on a closed manifold surface.
+  std::map<std::pair<int, int>, int> uses;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+    const Eigen::Vector3d& p = mesh.vertices[static_cast<size_t>(t[0])];
+    const Eigen::Vector3d& q = mesh.vertices[static_cast<size_t>(t[1])];
+    const Eigen::Vector3d& r = mesh.vertices[static_cast<size_t>(t[2])];
+    s.area += 0.5 * (q - p).cross(r - p).norm();
+    s.volume += p.dot(q.cross(r)) / 6.0;  // signed tetrahedron with the origin
+  }
+  for (const auto& [edge, n] : uses) {
+    if (n == 1) ++s.boundary_edges;
+    if (n > 2) ++s.non_manifold_edges;
+  }
+  return s;
+}
+
 TriangleMesh import_mesh(const std::string& path, double scale, const Eigen::Vector3d& translate) {
+  // Devices, pipes and /proc files would make the importer read without end.
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0) throw std::runtime_error("cannot import mesh: " + std::string(std::strerror(errno)));
+  if (!S_ISREG(info.st_mode) || info.st_size == 0)
+    throw std::runtime_error("cannot import mesh: not a regular, non-empty file");
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(
       path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices);
@@ -30,6 +77,15 @@ TriangleMesh import_mesh(const std::string& path, double scale, const Eigen::Vec
     }
   }
   if (out.triangles.empty()) throw std::runtime_error("mesh holds no triangles");
+  const MeshStats s = mesh_stats(out);
+  if (s.non_finite_vertices > 0)
+    throw std::runtime_error("mesh has " + std::to_string(s.non_finite_vertices) + " vertices with NaN or infinite coordinates");
+  if (s.boundary_edges > 0)
+    throw std::runtime_error("mesh is not closed: " + std::to_string(s.boundary_edges) +
+                             " edge(s) belong to one triangle only; a level set needs a closed surface (a watertight mesh)");
+  const double extent = (s.hi - s.lo).maxCoeff();
+  if (!(std::abs(s.volume) > 1e-12 * extent * extent * extent))
+    throw std::runtime_error("mesh encloses no volume (" + std::to_string(s.volume) + " m^3): a level set needs a solid");
   return out;
 }
 

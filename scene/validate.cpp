@@ -21,7 +21,9 @@ class Validator {
     if (present(key, x, need)) at_.number(key, *x, r);
   }
   void boolean(const std::string& key, const Opt<bool>& x, Need need = kOptional) { present(key, x, need); }
-  void string(const std::string& key, const Opt<std::string>& x, Need need = kOptional) { present(key, x, need); }
+  void string(const std::string& key, const Opt<std::string>& x, Need need = kOptional) {
+    if (present(key, x, need)) at_.text(key, *x);
+  }
   void choice(const std::string& key, const Opt<std::string>& x, const std::vector<std::string>& allowed,
               Need need = kOptional) {
     if (present(key, x, need)) at_.choice(key, *x, allowed);
@@ -57,7 +59,10 @@ class Validator {
   void index_pairs(const std::string& key, const Opt<std::vector<Int2>>& x, size_t min_count, Need need = kOptional) {
     if (present(key, x, need)) at_.element_count(key, x->size(), min_count);
   }
-  void shell_ref(const std::string& key, const Opt<ShellRef>& x, Need need = kOptional) { present(key, x, need); }
+  void shell_ref(const std::string& key, const Opt<ShellRef>& x, Need need = kOptional) {
+    if (present(key, x, need))
+      if (const auto* name = std::get_if<std::string>(&*x)) at_.text(key, *name);
+  }
   void limit(const std::string& key, const Opt<VerifyLimit>& x, const Range& r) {
     if (x && x->value) at_.number(key, *x->value, r);
   }
@@ -99,12 +104,30 @@ class Validator {
   FieldChecks at_;
 };
 
+// Pins and interfaces name shells, so two shells of one name would make a reference ambiguous (the
+// first would silently win). Unnamed shells are called "shell<index>" (scene/build_shells.cpp), so
+// those names count too.
+void check_unique_shell_names(const Scene& scene) {
+  const FieldChecks at(scene.source, "");
+  std::vector<std::string> names;
+  for (size_t i = 0; i < scene.shells.size(); ++i) {
+    const std::string name = scene.shells[i].name.value_or("shell" + std::to_string(i));
+    for (size_t k = 0; k < names.size(); ++k)
+      if (names[k] == name)
+        at.fail("shells/" + std::to_string(i) + (scene.shells[i].name ? "/name" : ""),
+                "shell name \"" + name + "\" is already used by /shells/" + std::to_string(k) +
+                    " (pins and interfaces name shells, so names must be unique)");
+    names.push_back(name);
+  }
+}
+
 }  // namespace
 
 void validate(const Scene& scene) {
   Scene copy = scene;  // the declarations take their fields by reference; nothing is changed
   Validator root("", scene.source);
   describe(root, copy);
+  check_unique_shell_names(scene);
 }
 
 }  // namespace shellfrac::scene

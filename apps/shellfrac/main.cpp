@@ -1,6 +1,6 @@
 // shellfrac command-line tool: run, validate, verify coupling, benchmark scene files, preview runs.
 // Exit codes (core/exit_code.hpp): 0 success, 2 bad input, 3 numerical failure, 4 a verify check
-// failed, 1 anything else.
+// failed, 1 anything else; `run` stopped by a signal exits 128 + the signal (apps/shellfrac/run_command.cpp).
 #include <CLI/CLI.hpp>
 
 #include <string>

@@ -1,13 +1,20 @@
-// `shellfrac run [SCENE] [--out DIR] [--threads N]`: runs a scene and writes its frames and summary.json.
+// `shellfrac run [SCENE] [--out DIR] [--threads N] [--max-memory SIZE] [--force] [--keep-old-frames]`: runs
+// a scene and writes its frames and summary.json. The scene's resources are estimated and checked
+// against the budget before anything is built (apps/shellfrac/budget.hpp); SIGINT, SIGTERM and SIGHUP
+// stop the run between steps with an "interrupted" summary and exit code 128 + the signal.
 #include <iostream>
 #include <memory>
 
+#include "apps/shellfrac/budget.hpp"
 #include "apps/shellfrac/command.hpp"
+#include "core/error.hpp"
 #include "core/version.hpp"
+#include "output/interrupt.hpp"
 #include "output/progress.hpp"
 #include "output/run.hpp"
 #include "output/scene_description.hpp"
 #include "scene/build.hpp"
+#include "scene/estimate.hpp"
 
 namespace shellfrac::app {
 
@@ -17,6 +24,8 @@ struct RunArguments {
   std::string scene_path;
   std::string out_dir = "out";
   int threads = 0;
+  bool keep_old_frames = false;
+  BudgetArguments budget;
 };
 
 }  // namespace
@@ -30,16 +39,32 @@ Command add_run_command(CLI::App& app) {
   run->add_option("--threads,-j", args->threads, "Worker threads (0: all cores)")
       ->check(CLI::Range(0, 4096))
       ->capture_default_str();
+  run->add_flag("--keep-old-frames", args->keep_old_frames,
+                "Keep the files an earlier run left in OUT/frames/ (by default they are removed first)");
+  add_budget_options(run, args->budget, true);
   return [run, args]() -> std::optional<int> {
     if (!run->parsed()) return std::nullopt;
     return run_guarded([&] {
-      const scene::Model model = scene::build(load_scene_or_default(args->scene_path));
+      if (args->out_dir.empty()) throw core::InputError("--out: the output folder must not be empty");
+      const scene::Scene scene = load_scene_or_default(args->scene_path);
+      // Refuse before anything big is allocated (the build samples solids and level sets).
+      const scene::ResourceEstimate estimate = scene::estimate_resources(scene);
+      scene::check_budget(estimate, make_budget(args->budget, args->out_dir), scene.source);
+      const scene::Model model = scene::build(scene);
       output::RunOptions options;
       options.out_dir = args->out_dir;
       options.threads = args->threads;
       options.interactive = output::Progress::stderr_is_terminal();
+      options.keep_old_frames = args->keep_old_frames;
       std::cerr << "shellfrac " << kVersion << ": running " << output::describe_scene(model);
+      const output::InterruptHandlers handlers;
       const output::Summary summary = output::run_scene(model, options, std::cerr);
+      if (summary.status == "interrupted") {
+        const int signal = output::interrupt_signal();
+        std::cerr << "interrupted: " << summary.frames.size() << " complete frame(s) and summary.json (status "
+                  << "\"interrupted\", t = " << summary.simulated_seconds << " s) in " << args->out_dir << "\n";
+        return 128 + (signal ? signal : 2);
+      }
       std::cerr << "done: " << summary.frames.size() << " frame(s) and summary.json in " << args->out_dir << " ("
                 << summary.wall_seconds << " s)\n";
       return 0;

@@ -96,7 +96,7 @@ const BadCase kBadCases[] = {
     {"net_point_not_3d", "/shells/1/patch/control_points/4", "[1, 1]", "/shells/1/patch/control_points/4", "[x, y, z]"},
     {"net_negative_weight", "/shells/1/patch/weights/3", "-1", "/shells/1/patch/weights/3", "must be > 0"},
     {"net_weight_count", "/shells/1/patch/weights", "[1, 1, 1]", "/shells/1/patch/weights", "one weight per control point"},
-    {"net_degree_zero", "/shells/1/patch/degree", "[0, 1]", "/shells/1/patch/degree/0", "in [1, 10]"},
+    {"net_degree_zero", "/shells/1/patch/degree", "[0, 1]", "/shells/1/patch/degree/0", "in [1, 7]"},
     {"cone_both_radii_zero", "/shells/2/patch",
      R"({"type": "cone", "radius_bottom": 0, "radius_top": 0, "height": 1, "cells": [4, 2]})",
      "/shells/2/patch/radius_top", "at least one radius"},

@@ -1,0 +1,387 @@
+// The resource estimate of a scene (scene/estimate.hpp). The bytes per element below are set from
+// measurements of this build (peak resident memory 567 MiB and 118 bytes of OBJ per render vertex for a
+// flat sheet of 200^2 cells rendered at 400^2; issue 14's 4096^2 render passing 8 GB) and rounded up, so
+// the estimate errs on the large side; the element counts follow the build: a flat or curved patch
+// is quadratic with cells + 2 control points per direction (plus one per quadratic arc piece around a
+// cylinder or cone), a control net gains (refine - 1) control points per non-empty knot span, each cell
+// carries points^2 x layers quadrature points and one shear particle.
+#include "scene/estimate.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <Eigen/Geometry>
+#include <filesystem>
+
+#include "core/constants.hpp"
+#include "scene/field_checks.hpp"
+#include "scene/mesh_import.hpp"
+#include "scene/quality.hpp"
+#include "scene/range.hpp"
+#include "scene/scene_error.hpp"
+#include "scene/validate.hpp"
+
+namespace shellfrac::scene {
+
+namespace {
+
+constexpr double kBaseBytes = 64.0 * (1 << 20);   // the program, its libraries and thread stacks
+constexpr double kControlPointBytes = 400;         // positions, velocities, masses, forces, pins, MLS data
+constexpr double kQuadraturePointBase = 120;       // F, stress, damage, plastic state, positions
+constexpr double kBasisFunctionBytes = 14;         // per support function and point (bases are shared per cell)
+constexpr double kShearParticleBytes = 600;
+constexpr double kSolidParticleBytes = 320;        // measured 298 (a box of 4.7e7 particles peaked at 13.9 GB)
+constexpr double kGridBlockBytes = 64 * 160.0;     // a 4^3 block of nodes: mass, momentum, velocity, force, ...
+constexpr double kRenderVertexBytes = 500;         // tessellation, shadow vertices, faces and the exporter's text
+constexpr double kLevelSetVoxelBytes = 24;         // distance and closest-triangle grids with tree overhead
+constexpr double kDiskBytesPerRenderVertex = 120;  // OBJ text: v, vt, vn lines and a share of the faces
+// The sparse grid packs block coordinates in 21 bits (mpm/sparse_grid.cpp): |x| / (4 dx) < 2^20.
+constexpr double kGridReachCells = 4.0 * (1 << 20);
+
+struct Box {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = Eigen::Vector3d::Constant(-1e300);
+  void add(const Eigen::Vector3d& p) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  bool empty() const { return lo.x() > hi.x(); }
+  double reach() const { return empty() ? 0.0 : std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()); }
+};
+
+Eigen::Vector3d vec(const Vec3& v) { return {v[0], v[1], v[2]}; }
+double norm(const Opt<Vec3>& v) { return v ? vec(*v).norm() : 0.0; }
+
+// Non-empty spans of a knot vector of the given degree, or 0 when it is too short.
+int knot_spans(const std::vector<double>& k, int degree) {
+  int spans = 0;
+  const size_t d = static_cast<size_t>(degree);
+  for (size_t i = d; i + d + 1 < k.size(); ++i)  // spans of the domain [k_p, k_{n}]
+    if (k[i + 1] > k[i]) ++spans;
+  return spans;
+}
+
+// What the estimate needs of one shell.
+struct ShellSize {
+  double control_points = 0, cells = 0, support = 9, area = 0, thickness = 0;
+  Box box;
+  std::string count_path;  // cells or refine
+};
+
+ShellSize shell_size(const Shell& s, size_t i) {
+  const std::string path = "/shells/" + std::to_string(i) + "/patch";
+  const Patch& p = *s.patch;
+  ShellSize out;
+  out.thickness = *s.thickness;
+  const Eigen::Vector3d origin = p.origin ? vec(*p.origin) : Eigen::Vector3d::Zero();
+  if (p.type == "control_net") {
+    const int du = (*p.degree)[0], dv = (*p.degree)[1];
+    const Int2 refine = p.refine.value_or(Int2{1, 1});
+    const double su = knot_spans(*p.knots_u, du), sv = knot_spans(*p.knots_v, dv);
+    const double nu = std::max(0.0, static_cast<double>(p.knots_u->size()) - du - 1) + (refine[0] - 1) * su;
+    const double nv = std::max(0.0, static_cast<double>(p.knots_v->size()) - dv - 1) + (refine[1] - 1) * sv;
+    out.control_points = nu * nv;
+    out.cells = su * refine[0] * sv * refine[1];
+    out.support = (du + 1.0) * (dv + 1.0);
+    const auto& pts = *p.control_points;
+    for (const Vec3& c : pts) out.box.add(vec(c));
+    // The control polygon's area bounds the surface's from above for the nets scenes use.
+    const size_t cu = static_cast<size_t>(std::max(0.0, static_cast<double>(p.knots_u->size()) - du - 1));
+    const size_t cv = cu ? pts.size() / cu : 0;
+    for (size_t b = 0; b + 1 < cv; ++b)
+      for (size_t a = 0; a + 1 < cu; ++a) {
+        const Eigen::Vector3d p00 = vec(pts[a + cu * b]), p10 = vec(pts[a + 1 + cu * b]), p01 = vec(pts[a + cu * (b + 1)]);
+        out.area += (p10 - p00).cross(p01 - p00).norm();
+      }
+    out.count_path = path + (p.refine ? "/refine" : "/knots_u");
+    return out;
+  }
+  const double cu = (*p.cells)[0], cv = (*p.cells)[1];
+  out.cells = cu * cv;
+  out.count_path = path + "/cells";
+  if (p.type == "flat") {
+    out.control_points = (cu + 2) * (cv + 2);
+    out.area = (*p.size)[0] * (*p.size)[1];
+    out.box.add(origin - Eigen::Vector3d::Constant((*p.size)[0] + (*p.size)[1]));
+    out.box.add(origin + Eigen::Vector3d::Constant((*p.size)[0] + (*p.size)[1]));
+    return out;
+  }
+  const double sweep = p.sweep_degrees.value_or(360.0) * core::kPi / 180.0;
+  const double r0 = p.type == "cylinder" ? *p.radius : *p.radius_bottom;
+  const double r1 = p.type == "cylinder" ? *p.radius : *p.radius_top;
+  const double pieces = std::ceil(p.sweep_degrees.value_or(360.0) / 90.0 - 1e-9);
+  out.control_points = (cu + 2 + pieces) * (cv + 2);
+  out.area = 0.5 * (r0 + r1) * sweep * std::hypot(*p.height, r1 - r0);
+  const double reach = std::max(r0, r1) + *p.height;
+  out.box.add(origin - Eigen::Vector3d::Constant(reach));
+  out.box.add(origin + Eigen::Vector3d::Constant(reach));
+  return out;
+}
+
+// A mesh file's stats, or a SceneError at path/file as the build reports it.
+MeshStats read_mesh(const Scene& scene, const MeshFile& m, const std::string& path) {
+  std::filesystem::path file(*m.file);
+  if (file.is_relative()) file = std::filesystem::path(scene.source).parent_path() / file;
+  try {
+    return mesh_stats(import_mesh(file.string(), m.scale.value_or(1.0), m.translate ? vec(*m.translate) : Eigen::Vector3d::Zero()));
+  } catch (const std::exception& e) {
+    throw SceneError(scene.source, path + "/file", file.string() + ": " + e.what());
+  }
+}
+
+double wave_speed(double E, double nu, double density) { return std::sqrt(E / (density * (1 - nu * nu))); }
+
+}  // namespace
+
+const ResourceItem& ResourceEstimate::largest() const {
+  return *std::max_element(memory.begin(), memory.end(),
+                           [](const ResourceItem& a, const ResourceItem& b) { return a.bytes < b.bytes; });
+}
+
+ResourceEstimate estimate_resources(const Scene& input) {
+  validate(input);
+  Scene scene = input;
+  apply_quality(scene);
+  ResourceEstimate e;
+  const FieldChecks at(scene.source, "");
+
+  // Shells: counts, the default grid spacing (the smallest cell, as sim/simulation.cpp chooses it).
+  std::vector<ShellSize> shells;
+  Box box;
+  double smallest_cell = 1e300;
+  for (size_t i = 0; i < scene.shells.size(); ++i) {
+    shells.push_back(shell_size(scene.shells[i], i));
+    const ShellSize& s = shells.back();
+    if (!s.box.empty()) {
+      box.add(s.box.lo);
+      box.add(s.box.hi);
+    }
+    if (s.cells > 0) smallest_cell = std::min(smallest_cell, std::sqrt(s.area / s.cells));
+  }
+  // Solids: volume and bounds; mesh solids read their file (bounds, area, volume; no level set).
+  struct SolidSize {
+    double volume = 0, area = 0, voxel = 0, band = 3;
+    Box box;
+  };
+  std::vector<SolidSize> solids;
+  for (size_t i = 0; i < scene.solids.size(); ++i) {
+    const Solid& s = scene.solids[i];
+    const std::string path = "/solids/" + std::to_string(i);
+    SolidSize out;
+    if (s.shape == "mesh") {
+      const MeshStats m = read_mesh(scene, s.mesh, path);
+      out.volume = std::abs(m.volume);
+      out.area = m.area;
+      out.voxel = s.mesh.voxel_size.value_or(0.5 * *s.spacing);
+      out.band = s.mesh.band_voxels.value_or(3.0);
+      out.box.add(m.lo);
+      out.box.add(m.hi);
+    } else if (s.shape == "sphere") {
+      out.volume = 4.0 / 3.0 * core::kPi * std::pow(*s.radius, 3);
+      out.box.add(vec(*s.center) - Eigen::Vector3d::Constant(*s.radius));
+      out.box.add(vec(*s.center) + Eigen::Vector3d::Constant(*s.radius));
+    } else {
+      const Eigen::Vector3d h = vec(*s.half_extents);
+      out.volume = 8.0 * h.prod();
+      out.box.add(vec(*s.center) - h);
+      out.box.add(vec(*s.center) + h);
+    }
+    box.add(out.box.lo);
+    box.add(out.box.hi);
+    smallest_cell = std::min(smallest_cell, 2.0 * *s.spacing);
+    solids.push_back(out);
+  }
+  e.grid_dx = scene.grid.dx.value_or(smallest_cell);
+  const std::string dx_path = scene.grid.dx ? "/grid/dx" : shells.empty() ? "/solids/0/spacing" : shells[0].count_path;
+  if (box.reach() / e.grid_dx > kGridReachCells)
+    at.fail(dx_path.substr(1), "grid spacing " + format_value(e.grid_dx) + " m cannot hold the scene: it reaches " +
+                                   format_value(box.reach()) + " m from the origin, more than the grid's " +
+                                   format_value(kGridReachCells) + " cells (" + format_value(kGridReachCells * e.grid_dx) +
+                                   " m at this spacing); use a larger \"dx\"");
+
+  // Memory, item by item.
+  double particles = 0, blocks = 0, block_particles = 0;
+  const double block = 4.0 * e.grid_dx;
+  for (size_t i = 0; i < shells.size(); ++i) {
+    const ShellSize& s = shells[i];
+    const Shell& in = scene.shells[i];
+    const double points = in.quadrature.points.value_or(4), layers = in.quadrature.layers.value_or(3);
+    const double qp = s.cells * points * points * layers;
+    const std::string name = "shell \"" + in.name.value_or("shell" + std::to_string(i)) + "\" ";
+    e.memory.push_back({name + "control points", s.control_points, s.control_points * kControlPointBytes, s.count_path});
+    e.memory.push_back({name + "quadrature points", qp, qp * (kQuadraturePointBase + kBasisFunctionBytes * s.support),
+                        s.count_path});
+    e.memory.push_back({name + "shear particles", s.cells, s.cells * kShearParticleBytes, s.count_path});
+    particles += s.control_points + qp + s.cells;
+    // A sheet touches about two layers of blocks (thicker sheets more), never more than 8 per particle.
+    blocks += std::min(8.0 * (s.control_points + qp), s.area / (block * block) * (2.0 + s.thickness / block));
+    block_particles += s.control_points + qp;
+  }
+  for (size_t i = 0; i < solids.size(); ++i) {
+    const SolidSize& s = solids[i];
+    const Solid& in = scene.solids[i];
+    const std::string path = "/solids/" + std::to_string(i);
+    const std::string name = "solid \"" + in.name.value_or("solid" + std::to_string(i)) + "\" ";
+    const double n = s.volume / std::pow(*in.spacing, 3);
+    e.memory.push_back({name + "particles", n, n * kSolidParticleBytes, path + "/spacing"});
+    particles += n;
+    blocks += std::min(8.0 * n, s.volume / std::pow(block, 3) + s.area / (block * block));
+    if (s.voxel > 0) {
+      const double voxels = s.area / (s.voxel * s.voxel) * 2.0 * s.band;
+      e.memory.push_back({name + "level-set voxels", voxels, voxels * kLevelSetVoxelBytes,
+                          path + (in.mesh.voxel_size ? "/voxel_size" : "/spacing")});
+    }
+  }
+  for (size_t i = 0; i < scene.colliders.size(); ++i) {
+    const Collider& c = scene.colliders[i];
+    if (c.shape != "mesh") continue;
+    const std::string path = "/colliders/" + std::to_string(i);
+    const MeshStats m = read_mesh(scene, c.mesh, path);
+    const double voxel = *c.mesh.voxel_size;
+    const double voxels = m.area / (voxel * voxel) * 2.0 * c.mesh.band_voxels.value_or(3.0);
+    e.memory.push_back({"collider \"" + c.name.value_or("collider" + std::to_string(i)) + "\" level-set voxels", voxels,
+                        voxels * kLevelSetVoxelBytes, path + "/voxel_size"});
+  }
+  e.memory.push_back({"grid nodes", 64 * blocks, blocks * kGridBlockBytes, scene.grid.dx ? "/grid/dx" : dx_path});
+  const double ru = scene.output.resolution ? (*scene.output.resolution)[0] : 32;
+  const double rv = scene.output.resolution ? (*scene.output.resolution)[1] : 32;
+  const double render_vertices = static_cast<double>(shells.size()) * (ru + 1) * (rv + 1);
+  e.memory.push_back({"render vertices", render_vertices, render_vertices * kRenderVertexBytes, "/output/resolution"});
+  e.memory_bytes = kBaseBytes;
+  for (const ResourceItem& item : e.memory) e.memory_bytes += item.bytes;
+
+  // Steps: the stability bound of sim/simulation.cpp (elastic waves, cfl, particle speed) and time.dt.
+  const double cfl = scene.time.cfl.value_or(0.5);
+  double bound = 1e300;
+  std::string bound_path = "/time/dt";
+  for (size_t i = 0; i < shells.size(); ++i) {
+    const Material& m = *scene.shells[i].material;
+    const double c = wave_speed(*m.youngs_modulus, *m.poisson_ratio, *m.density);
+    const double h = std::min(e.grid_dx, shells[i].cells > 0 ? std::sqrt(shells[i].area / shells[i].cells) : e.grid_dx);
+    const double b = std::min(h / c, std::sqrt(3.0) * h * h / (c * shells[i].thickness));
+    if (b < bound) {
+      bound = b;
+      // The more extreme of stiffness and density names the problem.
+      const std::string mat = "/shells/" + std::to_string(i) + "/material/";
+      bound_path = mat + (std::abs(std::log10(*m.youngs_modulus / 1e6)) >= std::abs(std::log10(*m.density / 1e3)) ? "E" : "density");
+    }
+  }
+  for (size_t i = 0; i < scene.solids.size(); ++i) {
+    const SolidMaterial& m = *scene.solids[i].material;
+    const double E = *m.youngs_modulus, nu = *m.poisson_ratio;
+    const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+    const double b = e.grid_dx / std::sqrt((lambda + 2 * mu) / *m.density);
+    if (b < bound) {
+      bound = b;
+      const std::string mat = "/solids/" + std::to_string(i) + "/material/";
+      bound_path = mat + (std::abs(std::log10(E / 1e6)) >= std::abs(std::log10(*m.density / 1e3)) ? "E" : "density");
+    }
+  }
+  double dt = cfl * bound;
+  std::string dt_path = scene.time.cfl && cfl < 1e-3 ? "/time/cfl" : bound_path;
+  if (scene.time.enforce_stability_bound == false) {
+    dt = *scene.time.dt;
+    dt_path = "/time/dt";
+  } else if (scene.time.dt && *scene.time.dt < dt) {
+    dt = *scene.time.dt;
+    dt_path = "/time/dt";
+  }
+  double vmax = 0;
+  std::string v_path;
+  for (size_t i = 0; i < scene.shells.size(); ++i)
+    if (norm(scene.shells[i].initial_velocity) > vmax) {
+      vmax = norm(scene.shells[i].initial_velocity);
+      v_path = "/shells/" + std::to_string(i) + "/initial_velocity";
+    }
+  for (size_t i = 0; i < scene.solids.size(); ++i)
+    if (norm(scene.solids[i].initial_velocity) > vmax) {
+      vmax = norm(scene.solids[i].initial_velocity);
+      v_path = "/solids/" + std::to_string(i) + "/initial_velocity";
+    }
+  if (vmax > 0 && cfl * e.grid_dx / vmax < dt && scene.time.enforce_stability_bound != false) {
+    dt = cfl * e.grid_dx / vmax;
+    dt_path = v_path;
+  }
+  e.dt = dt;
+  const double end = scene.time.end.value_or(1.0), rate = scene.time.frame_rate.value_or(24.0);
+  e.frames = std::floor(end * rate + 1e-9) + 1;
+  e.frames_path = rate > 1000 ? "/time/frame_rate" : "/time/end";
+  // At least one step per frame (sim::Simulation::advance_to).
+  e.steps = std::max(end / dt, e.frames - 1);
+  e.steps_path = e.frames - 1 >= end / dt ? e.frames_path : end > 1e4 ? "/time/end" : dt_path;
+  e.frame_bytes = render_vertices * kDiskBytesPerRenderVertex + 256.0 * static_cast<double>(shells.size());
+  e.disk_bytes = e.frames * e.frame_bytes;
+  e.work = e.steps * std::max(particles, 1.0);
+  return e;
+}
+
+namespace {
+
+// Counts and steps as whole numbers while they are readable, else in exponent form.
+std::string number(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, std::abs(v) < 1e15 && v == std::floor(v) ? "%.0f" : "%.4g", v);
+  return buf;
+}
+
+}  // namespace
+
+std::vector<std::string> budget_warnings(const ResourceEstimate& e, const ResourceBudget& b) {
+  std::vector<std::string> out;
+  if (e.frames > b.max_frames)
+    out.push_back(e.frames_path + ": the run would write " + number(e.frames) + " frames, more than the budget of " +
+                  number(b.max_frames));
+  if (e.steps > b.max_steps)
+    out.push_back(e.steps_path + ": the run would take about " + number(std::ceil(e.steps)) + " steps (dt " + number(e.dt) +
+                  " s), more than the budget of " + number(b.max_steps));
+  if (b.free_disk_bytes && e.disk_bytes > *b.free_disk_bytes)
+    out.push_back(e.frames_path + ": the frames would take about " + format_bytes(e.disk_bytes) + " on disk, more than the " +
+                  format_bytes(*b.free_disk_bytes) + " free");
+  return out;
+}
+
+void check_budget(const ResourceEstimate& e, const ResourceBudget& b, const std::string& source) {
+  if (b.memory_bytes > 0 && e.memory_bytes > b.memory_bytes) {
+    const ResourceItem& big = e.largest();
+    throw SceneError(source, big.json_path,
+                     "the scene needs about " + format_bytes(e.memory_bytes) + " of memory, more than the budget of " +
+                         format_bytes(b.memory_bytes) + " (--max-memory; default: the available memory); the largest part is " +
+                         number(std::ceil(big.count)) + " " + big.what + " (" + format_bytes(big.bytes) + ")");
+  }
+  if (e.frames > INT_MAX)
+    throw SceneError(source, e.frames_path, "the run would write " + number(e.frames) + " frames, more than any run can (" +
+                                                std::to_string(INT_MAX) + ")");
+  if (b.force) return;
+  const std::vector<std::string> problems = budget_warnings(e, b);
+  if (problems.empty()) return;
+  const std::string& first = problems.front();
+  const size_t colon = first.find(": ");
+  throw SceneError(source, first.substr(0, colon), first.substr(colon + 2) + "; --force runs it anyway");
+}
+
+std::string format_bytes(double bytes) {
+  const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
+  int u = 0;
+  while (bytes >= 1024 && u < 6) {
+    bytes /= 1024;
+    ++u;
+  }
+  char buf[64];
+  if (u == 6 && bytes >= 1024)
+    std::snprintf(buf, sizeof buf, "%.3g %s", bytes, units[u]);
+  else
+    std::snprintf(buf, sizeof buf, u == 0 ? "%.0f %s" : "%.1f %s", bytes, units[u]);
+  return buf;
+}
+
+std::string describe_estimate(const ResourceEstimate& e) {
+  std::string s = "  estimate: memory " + format_bytes(e.memory_bytes) + ", " + number(std::ceil(e.steps)) + " steps of " +
+                  number(e.dt) + " s, " + number(e.frames) + " frames (" + format_bytes(e.disk_bytes) + " on disk), work " +
+                  number(std::ceil(e.work)) + " particle-steps\n";
+  for (const ResourceItem& item : e.memory)
+    if (item.count > 0)
+      s += "    " + item.what + ": " + number(std::ceil(item.count)) + " (" + format_bytes(item.bytes) + ")\n";
+  return s;
+}
+
+}  // namespace shellfrac::scene

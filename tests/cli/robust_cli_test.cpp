@@ -1,0 +1,295 @@
+// issue 14 end to end: hostile scenes refused with exit 2 and the JSON path before anything is
+// allocated, output folders cleaned, Ctrl-C and SIGTERM stopping a run with an "interrupted" summary, and
+// a full disk (RLIMIT_FSIZE) stopping a run with exit 1 and no partial file under a final name.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <thread>
+
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+struct Result {
+  int exit_code;
+  std::string output;
+};
+
+Result shellfrac(const std::string& args) {
+  const std::string cmd = std::string(SHELLFRAC_BIN) + " " + args + " 2>&1";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return {-1, "popen failed"};
+  std::string out;
+  char buf[4096];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) out.append(buf, n);
+  const int status = ::pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("shellfrac-robust-" + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+// A small cloth; `time` and `extra` top-level fields and `shell` fields are spliced in.
+std::string cloth(const std::string& time = R"({"end": 0.1, "frame_rate": 30})", const std::string& extra = "",
+                  const std::string& shell = "") {
+  return R"({"time": )" + time + R"(, "output": {"resolution": [8, 8]}, )" + extra +
+         R"("shells": [{"name": "cloth", )" + shell + R"("patch": {"type": "flat", "size": [1, 1], "cells": [8, 8]},
+      "thickness": 0.0005, "material": {"E": 1e5, "nu": 0.3, "density": 300}}]})";
+}
+
+Result validate_text(const fs::path& d, const std::string& text, const std::string& flags = "") {
+  std::ofstream(d / "s.json") << text;
+  return shellfrac("validate " + (d / "s.json").string() + " " + flags);
+}
+
+Result run_text(const fs::path& d, const std::string& text, const std::string& flags = "") {
+  std::ofstream(d / "s.json") << text;
+  return shellfrac("run " + (d / "s.json").string() + " --threads 1 --out " + (d / "out").string() + " " + flags);
+}
+
+TEST(CliRobust, ScenesThatCannotBeReadAreExitTwoWithPath) {
+  const fs::path d = scratch("input");
+  const Result zero = shellfrac("validate /dev/zero");
+  EXPECT_EQ(zero.exit_code, 2) << zero.output;
+  EXPECT_THAT(zero.output, HasSubstr("/dev/zero: the scene file is larger than the limit of 64 MiB"));
+  const Result overflow = validate_text(d, cloth(R"({"end": 1e999})"));
+  EXPECT_EQ(overflow.exit_code, 2) << overflow.output;
+  EXPECT_THAT(overflow.output, HasSubstr("s.json: /time/end: number 1e999 is too large for a double"));
+  EXPECT_THAT(overflow.output, HasSubstr("(line 1, column 18)"));
+  const Result duplicate = validate_text(d, cloth().replace(cloth().find("\"nu\": 0.3"), 9, "\"nu\": 0.7, \"nu\": 0.3"));
+  EXPECT_EQ(duplicate.exit_code, 2) << duplicate.output;
+  EXPECT_THAT(duplicate.output, HasSubstr("/shells/0/material/nu: duplicate key \"nu\""));
+  const Result injected = validate_text(d, cloth().replace(cloth().find("\"cloth\""), 7, R"("sheet\nv 9 9 9\nf 1 2 999999")"));
+  EXPECT_EQ(injected.exit_code, 2) << injected.output;
+  EXPECT_THAT(injected.output, HasSubstr("/shells/0/name: contains the control character 0x0a"));
+  const Result dx = validate_text(d, cloth(R"({"end": 0.1})", R"("grid": {"dx": 1e-9}, )"));
+  EXPECT_EQ(dx.exit_code, 2) << dx.output;
+  EXPECT_THAT(dx.output, HasSubstr("/grid/dx: grid spacing 1e-09 m cannot hold the scene"));
+  const Result empty_out = shellfrac("run --out \"\"");
+  EXPECT_EQ(empty_out.exit_code, 2) << empty_out.output;
+  EXPECT_THAT(empty_out.output, HasSubstr("--out: the output folder must not be empty"));
+  EXPECT_EQ(shellfrac("validate " + (d / "s.json").string() + " --max-memory lots").exit_code, 2);
+  fs::remove_all(d);
+}
+
+TEST(CliRobust, ValidatePrintsTheEstimateAndRunRefusesOverBudget) {
+  const fs::path d = scratch("budget");
+  const Result ok = validate_text(d, cloth());
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_THAT(ok.output, HasSubstr("estimate: memory"));
+  EXPECT_THAT(ok.output, HasSubstr("shell \"cloth\" quadrature points: 3072"));  // 8 x 8 cells x 4 x 4 x 3
+  // The memory bomb of issue 14: refused by validate and run alike, in no time.
+  const std::string bomb = cloth().replace(cloth().find("\"cells\": [8, 8]"), 15, "\"cells\": [10000, 10000]");
+  for (const std::string& command : std::vector<std::string>{"validate", "run --out " + (d / "out").string()}) {
+    std::ofstream(d / "bomb.json") << bomb;
+    const Result r = shellfrac(command + " " + (d / "bomb.json").string() + " --max-memory 8G");
+    EXPECT_EQ(r.exit_code, 2) << command << r.output;
+    EXPECT_THAT(r.output, HasSubstr("bomb.json: /shells/0/patch/cells: the scene needs about"));
+    EXPECT_THAT(r.output, HasSubstr("more than the budget of 8.0 GiB"));
+  }
+  EXPECT_FALSE(fs::exists(d / "out"));
+  // A run of a billion frames: run refuses it without --force, validate warns.
+  const std::string many = cloth(R"({"end": 1, "frame_rate": 1e9})");
+  const Result refused = run_text(d, many);
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_THAT(refused.output, HasSubstr("/time/frame_rate: the run would write 1000000001 frames"));
+  EXPECT_THAT(refused.output, HasSubstr("--force runs it anyway"));
+  const Result warned = validate_text(d, many);
+  EXPECT_EQ(warned.exit_code, 0) << warned.output;
+  EXPECT_THAT(warned.output, HasSubstr("warning: /time/frame_rate"));
+  const Result steps = run_text(d, cloth(R"({"end": 1, "dt": 1e-300})"));
+  EXPECT_EQ(steps.exit_code, 2) << steps.output;
+  EXPECT_THAT(steps.output, HasSubstr("/time/dt: the run would take about"));
+  fs::remove_all(d);
+}
+
+std::set<std::string> frame_files(const fs::path& frames) {
+  std::set<std::string> out;
+  for (const auto& e : fs::directory_iterator(frames)) out.insert(e.path().filename().string());
+  return out;
+}
+
+TEST(CliRobust, OutputFolderHoldsOnlyThisRunsFrames) {
+  const fs::path d = scratch("folder");
+  ASSERT_EQ(run_text(d, cloth(R"({"end": 0.1, "frame_rate": 30})")).exit_code, 0);
+  EXPECT_EQ(frame_files(d / "out" / "frames").size(), 8u);  // frames 0..3, .obj and .mtl
+  // A stale staging folder of a killed run, and a second, shorter run into the same folder.
+  fs::create_directories(d / "out" / "frames" / ".staging-12345-1");
+  std::ofstream(d / "out" / "frames" / ".staging-12345-1" / "frame_00009.obj") << "v 0 0 0\n";
+  const Result second = run_text(d, cloth(R"({"end": 0.05, "frame_rate": 30})"));
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  EXPECT_THAT(second.output, HasSubstr("removed 1 staging folder(s)"));
+  EXPECT_THAT(second.output, HasSubstr("removed 8 file(s) of an earlier run"));
+  EXPECT_EQ(frame_files(d / "out" / "frames"),
+            (std::set<std::string>{"frame_00000.mtl", "frame_00000.obj", "frame_00001.mtl", "frame_00001.obj"}));
+  std::ifstream in(d / "out" / "summary.json");
+  EXPECT_EQ(nlohmann::json::parse(in)["frames"].size(), 2u);
+  // --keep-old-frames leaves them.
+  std::ofstream(d / "out" / "frames" / "frame_00042.obj") << "v 0 0 0\n";
+  ASSERT_EQ(run_text(d, cloth(R"({"end": 0.05, "frame_rate": 30})"), "--keep-old-frames").exit_code, 0);
+  EXPECT_TRUE(fs::exists(d / "out" / "frames" / "frame_00042.obj"));
+  fs::remove_all(d);
+}
+
+// Starts `shellfrac args...` with stdout and stderr to `log`; `limit_file_size` > 0 sets RLIMIT_FSIZE
+// (with SIGXFSZ ignored, so a write past it fails with EFBIG like a full disk).
+pid_t spawn(const std::vector<std::string>& args, const fs::path& log, long limit_file_size = 0) {
+  const pid_t pid = ::fork();
+  if (pid != 0) return pid;
+  if (limit_file_size > 0) {
+    ::signal(SIGXFSZ, SIG_IGN);
+    const rlimit limit{static_cast<rlim_t>(limit_file_size), static_cast<rlim_t>(limit_file_size)};
+    ::setrlimit(RLIMIT_FSIZE, &limit);
+  }
+  FILE* out = std::fopen(log.c_str(), "w");
+  ::dup2(fileno(out), 1);
+  ::dup2(fileno(out), 2);
+  std::vector<char*> argv;
+  std::string bin = SHELLFRAC_BIN;
+  argv.push_back(bin.data());
+  std::vector<std::string> copy = args;
+  for (std::string& a : copy) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  ::execv(bin.c_str(), argv.data());
+  ::_exit(127);
+}
+
+int wait_exit(pid_t pid) {
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// Every frame named in the summary is on disk and complete (81 vertices at resolution 8 x 8), every
+// file on disk is listed (or is its .mtl), and no staging folder remains.
+void expect_complete_frames(const fs::path& out, const nlohmann::json& summary, bool summary_written = true) {
+  std::set<std::string> listed;
+  for (const auto& f : summary["frames"]) {
+    const std::string obj = read_text(out / f.get<std::string>());
+    size_t vertices = 0;
+    for (size_t at = obj.find("\nv "); at != std::string::npos; at = obj.find("\nv ", at + 1)) ++vertices;
+    EXPECT_EQ(vertices, 81u) << f;
+    EXPECT_EQ(obj.back(), '\n') << f;
+    listed.insert(fs::path(f.get<std::string>()).filename().string());
+  }
+  for (const std::string& name : frame_files(out / "frames")) {
+    EXPECT_NE(name.rfind(".staging-", 0), 0u) << name;
+    EXPECT_GT(fs::file_size(out / "frames" / name), 0u) << name;
+    if (fs::path(name).extension() != ".obj") continue;
+    if (summary_written) {
+      EXPECT_TRUE(listed.count(name)) << name;
+    }
+    const std::string obj = read_text(out / "frames" / name);
+    size_t vertices = 0;
+    for (size_t at = obj.find("\nv "); at != std::string::npos; at = obj.find("\nv ", at + 1)) ++vertices;
+    EXPECT_EQ(vertices, 81u) << name;
+  }
+}
+
+// A run long enough to interrupt: 200 frames of a small cloth (it is stopped after frame 2).
+std::string long_cloth() { return cloth(R"({"end": 10, "frame_rate": 20})"); }
+
+void interrupt_run(int signal, int expected_exit) {
+  const fs::path d = scratch("signal" + std::to_string(signal));
+  std::ofstream(d / "s.json") << long_cloth();
+  const pid_t pid = spawn({"run", (d / "s.json").string(), "--threads", "1", "--out", (d / "out").string()}, d / "log");
+  // Wait for frame 2, then stop the run (at most 60 s).
+  for (int i = 0; i < 600 && !fs::exists(d / "out" / "frames" / "frame_00002.obj"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(fs::exists(d / "out" / "frames" / "frame_00002.obj")) << read_text(d / "log");
+  ::kill(pid, signal);
+  EXPECT_EQ(wait_exit(pid), expected_exit) << read_text(d / "log");
+  const std::string log = read_text(d / "log");
+  EXPECT_THAT(log, HasSubstr("interrupted"));
+  std::ifstream in(d / "out" / "summary.json");
+  ASSERT_TRUE(in) << log;
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_EQ(s["status"], "interrupted");
+  EXPECT_THAT(s["error"].get<std::string>(), HasSubstr(signal == SIGINT ? "SIGINT" : "SIGTERM"));
+  const size_t frames = s["frames"].size();
+  EXPECT_GE(frames, 3u);
+  EXPECT_LT(frames, 201u);
+  // The time reached lies between the last frame written and the next one.
+  const double t = s["simulated_seconds"].get<double>();
+  EXPECT_GE(t, (frames - 1) / 20.0 - 1e-9);
+  EXPECT_LT(t, frames / 20.0 + 1e-9);
+  expect_complete_frames(d / "out", s);
+  fs::remove_all(d);
+}
+
+TEST(CliRobust, SigintStopsBetweenStepsWithAnInterruptedSummary) { interrupt_run(SIGINT, 130); }
+TEST(CliRobust, SigtermExitsWith143) { interrupt_run(SIGTERM, 143); }
+
+TEST(CliRobust, SecondSigintKillsAtOnce) {
+  // A step of this 96 x 96-cell cloth takes about a second; the second SIGINT is sent as soon as the run
+  // says it will stop after the current step, so it arrives while that step still runs, and the default
+  // action ends the process (killed by SIGINT, no summary).
+  const fs::path d = scratch("twice");
+  std::string text = cloth(R"({"end": 10, "frame_rate": 1})");
+  text.replace(text.find("\"cells\": [8, 8]"), 15, "\"cells\": [96, 96]");
+  std::ofstream(d / "s.json") << text;
+  const pid_t pid = spawn({"run", (d / "s.json").string(), "--threads", "1", "--out", (d / "out").string()}, d / "log");
+  for (int i = 0; i < 600 && !fs::exists(d / "out" / "frames" / "frame_00000.obj"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(fs::exists(d / "out" / "frames" / "frame_00000.obj")) << read_text(d / "log");  // stepping now
+  ::kill(pid, SIGINT);
+  for (int i = 0; i < 20000 && read_text(d / "log").find("stopping after the current step") == std::string::npos; ++i)
+    std::this_thread::sleep_for(std::chrono::microseconds(500));
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  EXPECT_TRUE(WIFSIGNALED(status)) << read_text(d / "log");
+  EXPECT_EQ(WIFSIGNALED(status) ? WTERMSIG(status) : 0, SIGINT);
+  EXPECT_FALSE(fs::exists(d / "out" / "summary.json"));
+  fs::remove_all(d);
+}
+
+TEST(CliRobust, FullDiskStopsTheRunWithExitOneAndNoPartialFile) {
+  // Files may not grow past 3000 bytes: frame 0 of this cloth takes 5337 bytes, so its write fails and
+  // no frame is kept; with 5800 bytes frame 0 fits and frame 1 (6094 bytes) fails. The summary (about
+  // 2.5 kB) still fits and says "failed".
+  for (const long limit : {3000L, 5800L}) {
+    const fs::path d = scratch("full" + std::to_string(limit));
+    std::ofstream(d / "s.json") << cloth(R"({"end": 1, "frame_rate": 30})", "", "");
+    const pid_t pid = spawn({"run", (d / "s.json").string(), "--threads", "1", "--out", (d / "out").string()}, d / "log", limit);
+    EXPECT_EQ(wait_exit(pid), 1) << read_text(d / "log");
+    const std::string log = read_text(d / "log");
+    EXPECT_THAT(log, HasSubstr("File too large")) << log;
+    EXPECT_THAT(log, HasSubstr("frame_")) << log;
+    nlohmann::json s = {{"frames", nlohmann::json::array()}};
+    const bool summary_written = fs::exists(d / "out" / "summary.json");
+    if (summary_written) {
+      std::ifstream in(d / "out" / "summary.json");
+      s = nlohmann::json::parse(in);
+      EXPECT_EQ(s["status"], "failed");
+      EXPECT_THAT(s["error"].get<std::string>(), HasSubstr("File too large"));
+      EXPECT_EQ(s["frames"].size(), limit == 3000L ? 0u : 1u);
+    }
+    EXPECT_TRUE(summary_written);
+    expect_complete_frames(d / "out", s, summary_written);
+    fs::remove_all(d);
+  }
+}
+
+}  // namespace
