@@ -16,6 +16,8 @@ packages=(
   libboost-dev           # Boost.Polygon Voronoi diagrams (crack2d)
   libceres-dev           # independent least-squares cross-check of the MLS fit (tests)
   gnuplot-nox            # benchmark charts
+  voro++-dev             # 3D Voronoi diagrams of damaged regions (brittle crack surfaces)
+  libcgal-dev libgmp-dev libmpfr-dev  # exact mesh booleans for fragments (brittle)
 )
 
 missing=()
