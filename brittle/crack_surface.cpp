@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <deque>
 #include <functional>
+#include <limits>
+#include <map>
 #include <queue>
 #include <unordered_map>
 
@@ -23,34 +25,65 @@ constexpr double kParallelCosine = 0.3;
 // expands breadth first; we expand by path length (Dijkstra over site distances), because where three
 // sheets meet (a Y) the parity around the junction disagrees with the parity straight across, and only
 // the geometrically shortest path gives the local answer. Returns 1 if `to` is first reached on the
-// opposite side, 0 if on the same side, -1 if not reached within the budget.
-int relative_side(const VoronoiDiagram& d, const std::vector<char>& tag, const std::vector<char>& is_I, int from, int to,
-                  int budget) {
-  if (from == to) return 0;
-  std::unordered_map<long long, double> best;
-  using Item = std::pair<double, long long>;  // (length, 2 cell + parity)
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-  queue.emplace(0.0, 2LL * from);
-  best[2LL * from] = 0.0;
-  while (!queue.empty() && budget-- > 0) {
-    const auto [len, state] = queue.top();
-    queue.pop();
-    const int cell = static_cast<int>(state / 2), parity = static_cast<int>(state % 2);
-    if (cell == to) return parity;
-    if (len > best[state]) continue;
-    for (int f : d.cell_faces[static_cast<size_t>(cell)]) {
-      const int other = d.other(f, cell);
-      if (other < 0 || !is_I[static_cast<size_t>(other)] || tag[static_cast<size_t>(f)] == kUntagged) continue;
-      const long long next = 2LL * other + (parity ^ (tag[static_cast<size_t>(f)] == kOpposite ? 1 : 0));
-      const double l = len + (d.sites[static_cast<size_t>(other)] - d.sites[static_cast<size_t>(cell)]).norm();
-      const auto it = best.find(next);
-      if (it != best.end() && it->second <= l) continue;
-      best[next] = l;
-      queue.emplace(l, next);
-    }
+// opposite side, 0 if on the same side, -1 if not reached within the budget. Answers are cached per
+// pair (neighbouring extension cells share their representatives).
+class OrientationSearch {
+ public:
+  OrientationSearch(const VoronoiDiagram& d, const std::vector<char>& tag, const std::vector<char>& is_I, int budget)
+      : d_(d), tag_(tag), is_I_(is_I), budget_(budget), best_(2 * d.num_cells(), kUnseen) {}
+
+  int operator()(int from, int to) {
+    if (from == to) return 0;
+    const auto key = std::make_pair(std::min(from, to), std::max(from, to));
+    const auto hit = cache_.find(key);
+    if (hit != cache_.end()) return hit->second;
+    const int r = search(from, to);
+    cache_.emplace(key, r);
+    return r;
   }
-  return -1;
-}
+
+ private:
+  static constexpr double kUnseen = std::numeric_limits<double>::infinity();
+  int search(int from, int to) {
+    using Item = std::pair<double, long long>;  // (length, 2 cell + parity)
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+    auto relax = [&](long long state, double len) {
+      if (best_[static_cast<size_t>(state)] <= len) return;
+      if (best_[static_cast<size_t>(state)] == kUnseen) touched_.push_back(state);
+      best_[static_cast<size_t>(state)] = len;
+      queue.emplace(len, state);
+    };
+    relax(2LL * from, 0.0);
+    int result = -1, budget = budget_;
+    while (!queue.empty() && budget-- > 0) {
+      const auto [len, state] = queue.top();
+      queue.pop();
+      const int cell = static_cast<int>(state / 2), parity = static_cast<int>(state % 2);
+      if (cell == to) {
+        result = parity;
+        break;
+      }
+      if (len > best_[static_cast<size_t>(state)]) continue;
+      for (int f : d_.cell_faces[static_cast<size_t>(cell)]) {
+        const int other = d_.other(f, cell);
+        if (other < 0 || !is_I_[static_cast<size_t>(other)] || tag_[static_cast<size_t>(f)] == kUntagged) continue;
+        relax(2LL * other + (parity ^ (tag_[static_cast<size_t>(f)] == kOpposite ? 1 : 0)),
+              len + (d_.sites[static_cast<size_t>(other)] - d_.sites[static_cast<size_t>(cell)]).norm());
+      }
+    }
+    for (long long s : touched_) best_[static_cast<size_t>(s)] = kUnseen;
+    touched_.clear();
+    return result;
+  }
+
+  const VoronoiDiagram& d_;
+  const std::vector<char>& tag_;
+  const std::vector<char>& is_I_;
+  int budget_;
+  std::vector<double> best_;
+  std::vector<long long> touched_;
+  std::map<std::pair<int, int>, int> cache_;
+};
 
 }  // namespace
 
@@ -161,6 +194,7 @@ CrackExtraction extract_crack(const std::vector<Vec3>& rest, const std::vector<d
     if (node >= 0) r = node_cell[static_cast<size_t>(node)];
     return r;
   };
+  OrientationSearch orientation(d, tag, is_I, o.orientation_search);
   for (size_t f = 0; f < d.faces.size(); ++f) {
     const VoronoiFace& face = d.faces[f];
     if (face.wall() || out.crack_face[f]) continue;
@@ -173,7 +207,7 @@ CrackExtraction extract_crack(const std::vector<Vec3>& rest, const std::vector<d
     // The parity of Algorithm 3 cannot tell diagonal sectors of a junction of four sheets apart (two
     // crossings: even), so an even or missing answer is checked once more with the test of Algorithm 1
     // on the two representatives.
-    const int side = relative_side(d, tag, is_I, static_cast<int>(start), static_cast<int>(end), o.orientation_search);
+    const int side = orientation(static_cast<int>(start), static_cast<int>(end));
     if (side < 0) ++out.undecided_pairs;
     if (side == 1 || (start != end && across_damage(static_cast<int>(start), static_cast<int>(end)))) {
       out.crack_face[f] = 2;

@@ -3,6 +3,7 @@
 #include <voro++/voro++.hh>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -26,28 +27,36 @@ class Welder {
   explicit Welder(double tol) : tol_(tol), inv_(1.0 / tol) {}
   int add(const Vec3& p, std::vector<Vec3>& out) {
     const Eigen::Array3d q = (p.array() * inv_).floor();
-    const long ix = static_cast<long>(q.x()), iy = static_cast<long>(q.y()), iz = static_cast<long>(q.z());
-    for (long dz = -1; dz <= 1; ++dz)
-      for (long dy = -1; dy <= 1; ++dy)
-        for (long dx = -1; dx <= 1; ++dx) {
-          const auto it = map_.find(key(ix + dx, iy + dy, iz + dz));
+    const Key k{static_cast<long long>(q.x()), static_cast<long long>(q.y()), static_cast<long long>(q.z())};
+    for (long long dz = -1; dz <= 1; ++dz)
+      for (long long dy = -1; dy <= 1; ++dy)
+        for (long long dx = -1; dx <= 1; ++dx) {
+          const auto it = map_.find(Key{k.x + dx, k.y + dy, k.z + dz});
           if (it == map_.end()) continue;
           for (int id : it->second)
             if ((out[static_cast<size_t>(id)] - p).norm() <= tol_) return id;
         }
     const int id = static_cast<int>(out.size());
     out.push_back(p);
-    map_[key(ix, iy, iz)].push_back(id);
+    map_[k].push_back(id);
     return id;
   }
 
  private:
-  static unsigned long long key(long x, long y, long z) {
-    return (static_cast<unsigned long long>(x & 0x1FFFFF) << 42) | (static_cast<unsigned long long>(y & 0x1FFFFF) << 21) |
-           static_cast<unsigned long long>(z & 0x1FFFFF);
-  }
+  struct Key {
+    long long x, y, z;
+    bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
+  };
+  struct Hash {
+    size_t operator()(const Key& k) const {
+      unsigned long long h = static_cast<unsigned long long>(k.x) * 0x9E3779B97F4A7C15ULL;
+      h ^= static_cast<unsigned long long>(k.y) * 0xC2B2AE3D27D4EB4FULL + (h << 6) + (h >> 2);
+      h ^= static_cast<unsigned long long>(k.z) * 0x165667B19E3779F9ULL + (h << 6) + (h >> 2);
+      return static_cast<size_t>(h);
+    }
+  };
   double tol_, inv_;
-  std::unordered_map<unsigned long long, std::vector<int>> map_;
+  std::unordered_map<Key, std::vector<int>, Hash> map_;
 };
 
 // Newell normal (times 2 area) of a polygon.
@@ -102,6 +111,7 @@ VoronoiDiagram compute_voronoi(const std::vector<Vec3>& sites, const Vec3& lo, c
 
   const double tol = 1e-9 * diag;  // far above the round-off between cells, far below any real edge
   Welder welder(tol);
+  std::map<std::array<int, 4>, int> by_sites;
   std::vector<CellFace> records;
   std::vector<char> done(n, 0);
   voro::c_loop_all loop(con);
@@ -120,9 +130,37 @@ VoronoiDiagram compute_voronoi(const std::vector<Vec3>& sites, const Vec3& lo, c
       cell.vertices(x, y, z, coords);
       d.cell_volume[static_cast<size_t>(id)] = cell.volume();
       done[static_cast<size_t>(id)] = 1;
-      std::vector<int> welded(coords.size() / 3);
-      for (size_t v = 0; v < welded.size(); ++v)
-        welded[v] = welder.add(Vec3(coords[3 * v], coords[3 * v + 1], coords[3 * v + 2]), d.vertices);
+      // A vertex where exactly three faces of this cell meet is the point shared by this cell and the
+      // three neighbours across those faces: the sorted four site ids name it exactly, whichever cell
+      // computes it. Other vertices (degenerate, or on the container walls) are welded by position.
+      const size_t nv = coords.size() / 3;
+      std::vector<std::array<int, 4>> around(nv, {id, 0, 0, 0});
+      std::vector<int> degree(nv, 0);
+      for (size_t f = 0, k = 0; f < neighbours.size(); ++f) {
+        const int count = face_vertices[k++];
+        for (int c = 0; c < count; ++c) {
+          const size_t v = static_cast<size_t>(face_vertices[k++]);
+          if (degree[v] < 3) around[v][static_cast<size_t>(1 + degree[v])] = neighbours[f];
+          ++degree[v];
+        }
+      }
+      std::vector<int> welded(nv);
+      for (size_t v = 0; v < nv; ++v) {
+        const Vec3 p(coords[3 * v], coords[3 * v + 1], coords[3 * v + 2]);
+        std::array<int, 4> key = around[v];
+        if (degree[v] == 3 && key[1] >= 0 && key[2] >= 0 && key[3] >= 0) {
+          std::sort(key.begin(), key.end());
+          const auto it = by_sites.find(key);
+          if (it != by_sites.end()) {
+            welded[v] = it->second;
+          } else {
+            welded[v] = welder.add(p, d.vertices);
+            by_sites.emplace(key, welded[v]);
+          }
+        } else {
+          welded[v] = welder.add(p, d.vertices);
+        }
+      }
       size_t k = 0;
       for (size_t f = 0; f < neighbours.size(); ++f) {
         const int count = face_vertices[k++];
