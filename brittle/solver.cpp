@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -78,6 +79,16 @@ void BrittleSolver::set_crack(const TriMesh& crack) {
   sides_.set_crack(crack, solid_.rest, crack_radius());
 }
 
+CrackExtraction BrittleSolver::update_crack(const CrackExtractionOptions& options) {
+  CrackExtraction crack;
+  {
+    Timer t(times_.cracks);
+    if (solid_.count_damaged(options.grid.damage_threshold) > 0) crack = extract_crack(solid_.rest, solid_.damage_history(), options);
+  }
+  set_crack(crack_surface_mesh(crack));
+  return crack;
+}
+
 double BrittleSolver::damaged_fraction() const {
   return solid_.size() ? static_cast<double>(damaged_) / static_cast<double>(solid_.size()) : 0.0;
 }
@@ -115,12 +126,20 @@ void BrittleSolver::step() {
   stage_damage();
 }
 
+namespace {
+// Fraction of the step [t, t + dt) in which a ghost active on [start, end) acts: the impulse delivered
+// is the force times the active time, exactly, whatever the step size.
+double active_fraction(const GhostParticle& g, double t, double dt) {
+  const double overlap = std::min(t + dt, g.end) - std::max(t, g.start);
+  return overlap > 0 ? overlap / dt : 0.0;
+}
+}  // namespace
+
 void BrittleSolver::stage_p2g() {
   Timer t(times_.p2g);
   ghost_x_.clear();
   for (const GhostParticle& g : ghosts_)
-    if (time_ >= g.start && time_ < g.end)
-      ghost_x_.push_back(g.rest + (solid_.particles.x[g.anchor] - solid_.rest[g.anchor]));
+    if (active_fraction(g, time_, dt_) > 0) ghost_x_.push_back(g.rest + (solid_.particles.x[g.anchor] - solid_.rest[g.anchor]));
   grid_.rebuild(solid_.particles.x.data(), solid_.size(), ghost_x_, sides_.active(), options_.memory_limit);
   if (sides_.active()) sides_.classify(grid_, solid_.particles.x.data());
   grid_.transfer_to_grid(view(), dt_);
@@ -132,8 +151,9 @@ void BrittleSolver::stage_forces() {
   std::vector<Vec3> f;
   std::vector<int> field;
   for (const GhostParticle& g : ghosts_) {
-    if (!(time_ >= g.start && time_ < g.end)) continue;
-    f.push_back(g.force);
+    const double active = active_fraction(g, time_, dt_);
+    if (!(active > 0)) continue;
+    f.push_back(active * g.force);
     // The ghost acts on the field of its anchor particle's side.
     const int32_t s = sides_.slot(g.anchor);
     const Vec3 xg = g.rest + (solid_.particles.x[g.anchor] - solid_.rest[g.anchor]);

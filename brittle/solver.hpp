@@ -5,6 +5,7 @@
 
 #include "brittle/brittle_solid.hpp"
 #include "brittle/crack_sides.hpp"
+#include "brittle/crack_surface.hpp"
 #include "brittle/impact.hpp"
 #include "brittle/solid_grid.hpp"
 #include "mpm/colliders.hpp"
@@ -59,6 +60,9 @@ class BrittleSolver {
   void add_ghosts(const std::vector<GhostParticle>& ghosts);
   // Crack surface (material space) for the two velocity fields; an empty mesh returns to one field.
   void set_crack(const TriMesh& crack);
+  // Crack extraction on demand (thesis sec. 3.3, every ten steps in sec. 3.8): extracts the crack from
+  // the current damage history and hands it to set_crack. Timed as the "cracks" stage.
+  CrackExtraction update_crack(const CrackExtractionOptions& options);
   double crack_radius() const;  // material distance within which particles are classified
 
   void step();
