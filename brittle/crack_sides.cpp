@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <map>
 
 namespace shellfrac::brittle {
 
@@ -13,26 +14,80 @@ void CrackSides::clear() {
   mask_.clear();
 }
 
-void CrackSides::set_crack(const TriMesh& crack, const std::vector<Vec3>& rest, double radius) {
+void CrackSides::set_crack(const TriMesh& crack, const std::vector<Vec3>& rest, double radius, double spacing) {
   clear();
-  if (crack.triangles.empty()) return;
-  const TriangleIndex index(crack.positions, crack.triangles, radius);
-  const size_t n = rest.size();
-  std::vector<TriangleIndex::Hit> hit(n);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 512), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t p = r.begin(); p != r.end(); ++p) hit[p] = index.closest(rest[p], radius);
+  if (crack.triangles.empty() || rest.empty()) return;
+  const TriangleIndex index(crack.positions, crack.triangles, 0.25 * radius, radius + spacing);
+  // Closest crack points are looked up once per node of a material-space grid of the given spacing (far
+  // fewer nodes than particles near a crack), and each particle uses its nearest node's: on a face the
+  // particle's side is the sign of its offset along the face normal, which does not depend on where on
+  // the face the foot lies; off the faces (near a crack front) the direction from the foot.
+  Vec3 lo = rest.front(), hi = lo;
+  for (const Vec3& x : rest) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  const Eigen::Vector3i base = (lo / spacing).array().floor().cast<int>();
+  const Eigen::Vector3i dims = Eigen::Vector3i((hi / spacing).array().floor().cast<int>()) - base + Eigen::Vector3i::Constant(2);
+  const size_t nodes = static_cast<size_t>(dims.x()) * dims.y() * dims.z();
+  std::vector<TriangleIndex::Hit> hit(nodes);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, nodes, 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t n = r.begin(); n != r.end(); ++n) {
+      const long i = static_cast<long>(n) % dims.x(), j = (static_cast<long>(n) / dims.x()) % dims.y(),
+                 k = static_cast<long>(n) / (static_cast<long>(dims.x()) * dims.y());
+      hit[n] = index.closest(Vec3(static_cast<double>(base.x() + i), static_cast<double>(base.y() + j), static_cast<double>(base.z() + k)) * spacing,
+                             radius + spacing);
+    }
   });
+  const size_t n = rest.size();
   slot_.assign(n, -1);
   mask_.assign(n, 0);
+  constexpr double kFaceInterior = 1e-6;  // barycentric margin: the foot lies inside a face
+  // Boundary edges and vertices of the crack sheet: its fronts (and rims), where the side of a point is
+  // the direction from its foot rather than a face normal.
+  std::map<std::pair<int, int>, int> edge_uses;
+  for (const Tri& t : crack.triangles)
+    for (int k = 0; k < 3; ++k) ++edge_uses[std::minmax(t[k], t[(k + 1) % 3])];
+  std::vector<char> boundary_vertex(crack.positions.size(), 0);
+  for (const auto& [e, uses] : edge_uses)
+    if (uses == 1) boundary_vertex[static_cast<size_t>(e.first)] = boundary_vertex[static_cast<size_t>(e.second)] = 1;
+  auto on_front = [&](const TriangleIndex::Hit& h) {
+    const Tri& t = crack.triangles[static_cast<size_t>(h.triangle)];
+    int zeros = 0, zero = -1;
+    for (int k = 0; k < 3; ++k)
+      if (h.barycentric[k] <= kFaceInterior) ++zeros, zero = k;
+    if (zeros == 0) return false;
+    if (zeros == 1) {  // on the edge opposite corner `zero`
+      const auto it = edge_uses.find(std::minmax(t[(zero + 1) % 3], t[(zero + 2) % 3]));
+      return it != edge_uses.end() && it->second == 1;
+    }
+    for (int k = 0; k < 3; ++k)  // at a corner
+      if (h.barycentric[k] > kFaceInterior) return boundary_vertex[static_cast<size_t>(t[k])] != 0;
+    return false;
+  };
   for (size_t p = 0; p < n; ++p) {
-    if (!hit[p].found) continue;
-    Vec3 d = rest[p] - hit[p].point;
-    // On the surface itself the direction is undefined: use the face normal (either sign).
-    const double len = d.norm();
-    d = len > 1e-9 * radius ? Vec3(d / len) : index.triangle_normal(hit[p].triangle);
+    const Eigen::Vector3i c = Eigen::Vector3i((rest[p] / spacing).array().round().cast<int>()) - base;
+    const size_t node = static_cast<size_t>(c.x() + dims.x() * (c.y() + static_cast<long>(dims.y()) * c.z()));
+    const TriangleIndex::Hit& h = hit[node];
+    if (!h.found) continue;
+    const Vec3 offset = rest[p] - h.point;
+    const Vec3& face = index.triangle_normal(h.triangle);
+    Vec3 dir;
+    double distance;
+    if (!on_front(h) && face.squaredNorm() > 0) {
+      // On a face or an inner edge of the sheet (a ridge between nearly coplanar faces): the side is
+      // the sign of the offset along the face normal.
+      distance = offset.dot(face);
+      dir = distance >= 0 ? face : Vec3(-face);
+      distance = std::abs(distance);
+    } else {
+      distance = offset.norm();
+      dir = distance > 1e-9 * radius ? Vec3(offset / distance) : face;
+    }
+    if (distance >= radius) continue;
     slot_[p] = static_cast<int32_t>(near_.size());
     near_.push_back(static_cast<uint32_t>(p));
-    normal_.push_back(d);
+    normal_.push_back(dir);
   }
   if (near_.empty()) clear();
 }

@@ -9,7 +9,8 @@ namespace shellfrac::brittle {
 // Which side of the crack surface each particle lies on at each of its grid nodes (thesis sec. 3.4.1).
 //
 // The crack lives in material space, so each particle's crack normal n_p = X_p - X_c^p (X_c^p its closest
-// crack point) is found once per crack update with a spatial index. At every node the thesis compares
+// crack point) is found once per crack update with a spatial index (through the closest points of a grid
+// of nodes, see set_crack). At every node the thesis compares
 // n_p with the node's own normal n_i = x_i - x_c^i; we take n_i from the particle nearest the node (its
 // largest weight) instead, so that the test needs no material position of the grid node and holds while
 // the solid translates or rotates. Particle p is in field 1 at node i when n_p . n_ref < -1/4 (clearly
@@ -22,8 +23,9 @@ class CrackSides {
   static constexpr double kOppositeCosine = -0.25;
 
   void clear();
-  // crack: triangles in material space; rest: X_p of every particle.
-  void set_crack(const TriMesh& crack, const std::vector<Vec3>& rest, double radius);
+  // crack: triangles in material space; rest: X_p of every particle; spacing: of the lookup grid (the
+  // MPM grid spacing h is fine).
+  void set_crack(const TriMesh& crack, const std::vector<Vec3>& rest, double radius, double spacing);
   bool active() const { return !near_.empty(); }
   size_t near_count() const { return near_.size(); }
 

@@ -104,7 +104,7 @@ std::vector<TriMesh> split_solids(const TriMesh& mesh) {
 size_t transfer_attributes(TriMesh& piece, const TriMesh& domain, double tol, double uv_scale) {
   Vec3 lo, hi;
   bounding_box(domain, lo, hi);
-  const TriangleIndex index(domain.positions, domain.triangles, std::max((hi - lo).norm() / 64.0, 4.0 * tol));
+  const TriangleIndex index(domain.positions, domain.triangles, std::max((hi - lo).norm() / 64.0, 4.0 * tol), tol);
   TriMesh out;
   out.name = piece.name;
   std::map<std::tuple<int, double, double, double, double, double>, int> corners;

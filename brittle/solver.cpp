@@ -76,7 +76,7 @@ void BrittleSolver::set_crack(const TriMesh& crack) {
     sides_.clear();
     return;
   }
-  sides_.set_crack(crack, solid_.rest, crack_radius());
+  sides_.set_crack(crack, solid_.rest, crack_radius(), options_.dx);
 }
 
 CrackExtraction BrittleSolver::update_crack(const CrackExtractionOptions& options) {

@@ -5,6 +5,9 @@
 #include "brittle/errors.hpp"
 #include "brittle/primitives.hpp"
 #include "brittle/tri_mesh.hpp"
+#include "brittle/triangle_index.hpp"
+
+#include <random>
 
 namespace shellfrac::brittle {
 namespace {
@@ -83,6 +86,28 @@ TEST(TriMesh, NanZeroVolumeAndInsideOutAreRefused) {
   EXPECT_THROW(require_closed_solid(inverted, "inverted.obj"), InputError);
   TriMesh empty;
   EXPECT_THROW(require_closed_solid(empty, "empty.obj"), InputError);
+}
+
+TEST(TriangleIndex, ClosestPointsMatchABruteForceSearch) {
+  const TriMesh mesh = torus_mesh(Vec3(0.1, 0, 0), 0.3, 0.1, 24, 12);
+  const double reach = 0.15;
+  const TriangleIndex index(mesh.positions, mesh.triangles, 0.03, reach);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-0.6, 0.6);
+  int found = 0;
+  for (int q = 0; q < 2000; ++q) {
+    const Vec3 x(u(rng), u(rng), 0.5 * u(rng));
+    double best = std::numeric_limits<double>::infinity();
+    for (const Tri& t : mesh.triangles)
+      best = std::min(best, (closest_point_on_triangle(x, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]) - x).norm());
+    const TriangleIndex::Hit hit = index.closest(x, reach);
+    EXPECT_EQ(hit.found, best < reach) << q;
+    if (hit.found) {
+      EXPECT_NEAR(hit.distance, best, 1e-12) << q;
+      ++found;
+    }
+  }
+  EXPECT_GT(found, 200);
 }
 
 }  // namespace
