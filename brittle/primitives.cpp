@@ -99,7 +99,7 @@ TriMesh cylinder_mesh(const Vec3& c, double radius, double height, int segments)
     const int centre = add_vertex(m, c + Vec3(0, 0, 0.5 * s * height), n, Vec2(0.5, 0.5));
     const int first = static_cast<int>(m.positions.size());
     for (int k = 0; k <= segments; ++k) {
-      const double phi = 2 * kPi * (k % segments) / segments;
+      const double phi = 2 * kPi * (static_cast<double>(k % segments) / segments);  // as the side grid, bit for bit
       add_vertex(m, c + Vec3(radius * std::cos(phi), radius * std::sin(phi), 0.5 * s * height), n,
                  Vec2(0.5 + 0.5 * std::cos(phi), 0.5 + 0.5 * std::sin(phi)));
     }

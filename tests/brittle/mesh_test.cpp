@@ -38,6 +38,12 @@ TEST(TriMesh, PrimitivesAreClosedWithTheirAnalyticVolume) {
     EXPECT_NEAR(r.volume, c.exact, c.tolerance * c.exact) << c.mesh.name;
     EXPECT_NO_THROW(require_closed_solid(c.mesh, c.mesh.name));
   }
+  // Segment counts that are not powers of two round angles differently: seams must still weld.
+  for (int segments : {3, 7, 48, 100}) {
+    EXPECT_TRUE(inspect_mesh(cylinder_mesh(Vec3::Zero(), 0.1, 0.2, segments)).closed()) << segments;
+    EXPECT_TRUE(inspect_mesh(sphere_mesh(Vec3::Zero(), 0.1, segments, segments / 2 + 2)).closed()) << segments;
+    EXPECT_TRUE(inspect_mesh(torus_mesh(Vec3::Zero(), 0.3, 0.1, segments, segments / 2 + 3)).closed()) << segments;
+  }
 }
 
 TEST(TriMesh, MassPropertiesOfABoxMatchTheTextbook) {
