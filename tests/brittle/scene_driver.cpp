@@ -1,4 +1,4 @@
-// A small driver that runs the brittle scenes (scenes/brittle-*.json) through the brittle library with
+// A small driver that runs the brittle scenes (scenes/brittle/*.json) through the brittle library with
 // the scene keys proposed in docs/brittle.md, until the scene parser and run driver of sim/ read them.
 // Not a test and not the product: it measures how long each scene takes and writes what an event
 // produces (fragments and crack as OBJ, particles as .vdb, the summary as JSON).
