@@ -136,8 +136,9 @@ void SolidGrid::rebuild(const GVec3* x, size_t n, const std::vector<GVec3>& extr
   }
 
   // 2. Slabs four nodes thick along the longest axis; stable counting sort keeps index order inside one.
-  slab_axis_ = 0;
-  for (int a = 1; a < 3; ++a)
+  // Ties go to z: particles sampled in z-major order then stay contiguous inside a slab.
+  slab_axis_ = 2;
+  for (int a = 1; a >= 0; --a)
     if (dims_[a] > dims_[slab_axis_]) slab_axis_ = a;
   const size_t slabs = static_cast<size_t>(dims_[slab_axis_] + 3) / 4;
   std::vector<uint32_t> slab_of(n);
@@ -159,26 +160,37 @@ void SolidGrid::transfer_to_grid(const SolidView& s, double dt) {
   for_particles_coloured([&](uint32_t p) {
     const Stencil st = make_stencil(s.x[p], inv_dx_, dx_);
     const double mp = s.m[p];
+    // Q = m C - dt D^-1 V^0 J sigma: node i receives w (m v + Q (x_i - x_p)).
     const GMat3 Q = mp * s.C[p] - (dt * inv_d) * s.stress[p];
-    const GVec3 mv = mp * s.v[p];
+    const double mv[3] = {mp * s.v[p].x(), mp * s.v[p].y(), mp * s.v[p].z()};
     const long base = (st.base[0] - lo_.x()) + (st.base[1] - lo_.y()) * stride_y_ + (st.base[2] - lo_.z()) * stride_z_;
     const FieldMask mask = s.mask ? s.mask[p] : 0;
     const int32_t slot = two_fields_ && s.near_slot ? s.near_slot[p] : -1;
+    const bool plain = mask == 0 && slot < 0;  // most particles: one field, no crack normal
     for (int k = 0; k < 3; ++k) {
-      const double wz = st.w[2][k];
+      const double wz = st.w[2][k], dz = st.d[2][k];
       for (int j = 0; j < 3; ++j) {
-        const double wyz = st.w[1][j] * wz;
-        const GVec3 row = mv + Q.col(1) * st.d[1][j] + Q.col(2) * st.d[2][k];
+        const double wyz = st.w[1][j] * wz, dy = st.d[1][j];
+        double row[3];
+        for (int a = 0; a < 3; ++a) row[a] = mv[a] + Q(a, 1) * dy + Q(a, 2) * dz;
         const long idx = base + j * stride_y_ + k * stride_z_;
+        if (plain) {
+          GridNode* nd = f[0] + idx;
+          for (int i = 0; i < 3; ++i) {
+            const double w = st.w[0][i] * wyz, ddx = st.d[0][i];
+            nd[i].m += w * mp;
+            nd[i].p[0] += w * (row[0] + Q(0, 0) * ddx);
+            nd[i].p[1] += w * (row[1] + Q(1, 0) * ddx);
+            nd[i].p[2] += w * (row[2] + Q(2, 0) * ddx);
+          }
+          continue;
+        }
         for (int i = 0; i < 3; ++i) {
-          const double w = st.w[0][i] * wyz;
-          const GVec3 mom = w * (row + Q.col(0) * st.d[0][i]);
+          const double w = st.w[0][i] * wyz, ddx = st.d[0][i];
           const int field = static_cast<int>((mask >> (i + 3 * j + 9 * k)) & 1u);
           GridNode& nd = f[field][idx + i];
           nd.m += w * mp;
-          nd.p[0] += mom.x();
-          nd.p[1] += mom.y();
-          nd.p[2] += mom.z();
+          for (int a = 0; a < 3; ++a) nd.p[a] += w * (row[a] + Q(a, 0) * ddx);
           if (slot >= 0) normal_[static_cast<size_t>(idx + i)] += (field ? -w * mp : w * mp) * s.near_normal[slot];
         }
       }
