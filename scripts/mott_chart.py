@@ -4,8 +4,8 @@
 Usage: scripts/mott_chart.py OUT.png SUMMARY.json [SUMMARY.json ...]
 
 Reads the "brittle" section of each summary.json that `shellfrac run` wrote, pools the counted fragments
-(slivers excluded, see docs/brittle.md) of every brittle solid, each mass divided by the mass of its
-solid, and plots the cumulative fraction of fragments heavier than m against Mott's law
+(slivers excluded, see docs/brittle.md) of every brittle solid that broke (at least two counted
+pieces), each mass divided by the mass of its solid, and plots the cumulative fraction of fragments heavier than m against Mott's law
     N(> m) / N = exp(-(m / mu)^(1/2))
 (Mott's distribution as given by Elek and Jaramaz 2008). The parameter mu is the maximum-likelihood fit:
 under Mott's law sqrt(m) is exponentially distributed with mean sqrt(mu), so sqrt(mu) = mean(sqrt(m)).
@@ -31,11 +31,13 @@ def fragment_mass_ratios(paths):
             if not solid.get("event"):
                 continue
             pieces = solid["fragments"]
+            if solid["fragment_count"] < 2:
+                continue  # an unbroken solid is no fragment population
             total = sum(p["mass"] for p in pieces)
             for p in pieces:
                 if not p["sliver"]:
                     ratios.append(p["mass"] / total)
-            names.append(summary["scene"] + "/" + solid["solid"])
+            names.append(solid["solid"])
     return np.array(sorted(ratios)), names
 
 

