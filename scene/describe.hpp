@@ -259,12 +259,8 @@ void describe(V& v, Solid& s) {
   v.string("name", s.name);
   v.object("fracture", s.fracture);
   const bool brittle = s.fracture.has_value();
-  v.choice("shape", s.shape, {"sphere", "box", "mesh", "cylinder", "torus"}, kRequired);
-  v.check("shape", [&] {
-    return !brittle && (s.shape == "cylinder" || s.shape == "torus")
-               ? "shape \"" + *s.shape + "\" is only for brittle solids (give the solid a \"fracture\" object)"
-               : std::string();
-  });
+  if (brittle) v.choice("shape", s.shape, {"sphere", "box", "mesh", "cylinder", "torus"}, kRequired);
+  else v.choice("shape", s.shape, {"sphere", "box", "mesh"}, kRequired);  // cylinder, torus: brittle only
   v.number("spacing", s.spacing, Range::positive(), kRequired);
   if (s.shape == "mesh") {
     describe_mesh(v, s.mesh, kOptional);
