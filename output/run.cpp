@@ -9,6 +9,7 @@
 #include <ostream>
 
 #include "core/version.hpp"
+#include "output/brittle_output.hpp"
 #include "output/frame_render.hpp"
 #include "output/interrupt.hpp"
 #include "output/mesh_metrics.hpp"
@@ -255,11 +256,13 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
   sim::Simulation sim(model);  // may throw SceneError (e.g. dt above the stability bound) before any output
   prepare_output(options.out_dir, options.keep_old_frames, log);
   FrameWriter frames(model, options.out_dir);
+  BrittleWriter brittle(model, options.out_dir);  // fracture events of brittle solids (docs/brittle.md)
   const int last_frame = static_cast<int>(frame_count);
   double peak_kinetic = 0;
   auto finish = [&](const std::string& status, const std::string& error) {
     Summary s = make_summary(sim, frames, threads, peak_kinetic, status);
     if (!error.empty()) s.error = error;
+    if (!model.brittle_solids.empty()) s.brittle = brittle.reports(sim);
     s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     render_mesh::write_file_atomically(options.out_dir / "summary.json", to_json(s).dump(2) + "\n");
     return s;
@@ -293,8 +296,12 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
       frames.write(sim, f);
       progress.update(sim.time(), "frame " + std::to_string(f) + "/" + std::to_string(last_frame) + ", step " +
                                       std::to_string(sim.steps()));
+      brittle.write_new_events(sim);
+      if (sim.finished()) break;  // only brittle solids, all broken
       stopped = stop_requested();
     }
+    sim.finish_brittle();
+    brittle.write_new_events(sim);
   } catch (const core::NumericalError& e) {
     finish("failed", e.what());
     throw;
@@ -315,7 +322,7 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
     Summary summary = finish("interrupted", "interrupted " + by + " at t = " + std::to_string(sim.time()) + " s");
     return summary;
   }
-  progress.finish(std::to_string(last_frame + 1) + " frames, " + std::to_string(sim.steps()) + " steps");
+  progress.finish(std::to_string(frames.files().size()) + " frames, " + std::to_string(sim.steps()) + " steps");
   const Summary summary = finish("completed", "");
   warn_about_run(summary, log);
   return summary;

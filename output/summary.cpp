@@ -184,6 +184,7 @@ nlohmann::json to_json(const Summary& s) {
     for (const CrackGraphReport& g : *s.crack_graphs) graphs.push_back({{"shell", g.shell}, {"vertices", g.vertices}, {"edges", g.edges}});
     j["crack_graphs"] = std::move(graphs);
   }
+  if (s.brittle) j["brittle"] = brittle_json(*s.brittle);
   j["wall_seconds"] = s.wall_seconds;
   return j;
 }
@@ -237,6 +238,7 @@ Summary summary_from_json(const nlohmann::json& j) {
       s.crack_graphs->push_back({get<std::string>(g, "shell"), get<std::vector<std::array<double, 2>>>(g, "vertices"),
                                  get<std::vector<std::array<int, 2>>>(g, "edges")});
   }
+  if (j.contains("brittle")) s.brittle = brittle_reports_from_json(j.at("brittle"));
   s.wall_seconds = get<double>(j, "wall_seconds");
   return s;
 }

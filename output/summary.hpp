@@ -78,6 +78,37 @@ struct CrackGraphReport {
   std::vector<std::array<int, 2>> edges;
 };
 
+// brittle[i].fragments[k]: one piece of a fracture event, in the solid's material space (docs/brittle.md).
+struct BrittleFragmentReport {
+  std::string name;
+  double volume = 0, mass = 0;
+  std::array<double, 3> centroid{};
+  std::array<double, 9> inertia{};  // about the centroid, row-major [kg m^2]
+  size_t triangles = 0, crack_triangles = 0;
+  bool sliver = false;  // smaller than sliver_volume: kept in the mesh, not counted
+};
+
+// brittle[i]: the fracture run of one brittle solid and its fracture event (docs/cli.md).
+struct BrittleSolidReport {
+  std::string solid, json_path;
+  size_t particles = 0;
+  long steps = 0;
+  double simulated_seconds = 0;
+  std::string stop_reason;  // the criterion met, or "scene_end"
+  double damaged_fraction = 0;
+  size_t crack_updates = 0;
+  bool event = false;  // false: the run failed before the event
+  std::string fragments_file, crack_file, particles_file;  // relative to the run folder
+  std::string cutter;
+  size_t fragment_count = 0, sliver_count = 0;  // counted pieces and slivers
+  double sliver_volume_threshold = 0, sliver_volume = 0;
+  double input_volume = 0, total_volume = 0, volume_change = 0;
+  size_t crack_faces = 0, regions = 0;
+  double crack_area = 0;  // of the crack surface inside the object [m^2]
+  std::vector<BrittleFragmentReport> fragments;  // largest first, slivers included (flagged)
+  std::vector<std::pair<std::string, double>> stage_seconds;
+};
+
 struct Metrics {
   MeshReport mesh;  // written at the top level of metrics
   double max_collider_penetration = 0, max_collider_penetration_cells = 0;
@@ -100,8 +131,13 @@ struct Summary {
   std::vector<std::pair<std::string, double>> stage_seconds;  // in the order the stages first ran
   Metrics metrics;
   std::optional<std::vector<CrackGraphReport>> crack_graphs;
+  std::optional<std::vector<BrittleSolidReport>> brittle;  // scenes with brittle solids
   double wall_seconds = 0;
 };
+
+// The "brittle" section of summary.json (output/brittle_output.cpp).
+nlohmann::json brittle_json(const std::vector<BrittleSolidReport>& reports);
+std::vector<BrittleSolidReport> brittle_reports_from_json(const nlohmann::json& j);
 
 nlohmann::json to_json(const Summary& s);
 // Reads a summary.json document; throws std::runtime_error naming the missing or mistyped field.

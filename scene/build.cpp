@@ -68,7 +68,10 @@ Model build(const Scene& input) {
   m.grid.dx = scene.grid.dx;
   m.grid.apic = scene.grid.transfer == "apic";
   m.cracks = build_cracks(scene.cracks);
-  for (size_t i = 0; i < scene.solids.size(); ++i) m.solids.push_back(detail::build_solid(b, scene.solids[i], i));
+  for (size_t i = 0; i < scene.solids.size(); ++i) {
+    if (scene.solids[i].fracture) m.brittle_solids.push_back(detail::build_brittle_solid(b, scene.solids[i], i));
+    else m.solids.push_back(detail::build_solid(b, scene.solids[i], i));
+  }
   for (size_t i = 0; i < scene.colliders.size(); ++i)
     m.colliders.push_back(detail::build_collider(b, scene.colliders[i], i));
   for (size_t i = 0; i < scene.pins.size(); ++i) m.pins.push_back(detail::build_pin(b, scene.pins[i], i, m.shells));

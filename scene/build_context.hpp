@@ -32,6 +32,7 @@ struct Builder {
 
 model::Shell build_shell(const Builder& b, const Shell& s, size_t index);
 model::SolidBody build_solid(const Builder& b, const Solid& s, size_t index);
+model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t index);  // build_brittle.cpp
 model::ColliderSpec build_collider(const Builder& b, const Collider& c, size_t index);
 mpm::RigidMotion build_motion(const Motion& m);
 model::Pin build_pin(const Builder& b, const Pin& p, size_t index, const std::vector<model::Shell>& shells);

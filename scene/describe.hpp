@@ -150,12 +150,98 @@ void describe(V& v, Shell& s) {
   v.objects("cuts", s.cuts, 0);
 }
 
+// A solid's material. The damage keys are required for brittle solids and refused for the others (the
+// solid's describe() checks that, it knows whether the solid has a "fracture" object).
 template <class V>
 void describe(V& v, SolidMaterial& m) {
   v.choice("model", m.model, {"neo_hookean"});
   v.number("E", m.youngs_modulus, Range::positive(), kRequired);
   v.number("nu", m.poisson_ratio, Range::open(-1.0, 0.5), kRequired);
   v.number("density", m.density, Range::positive(), kRequired);
+  v.number("failure_stress", m.failure_stress, Range::positive());
+  v.number("fracture_energy", m.fracture_energy, Range::positive());
+  v.choice("damage_rule", m.damage_rule, {"healing", "monotone"});
+  v.number("characteristic_length", m.characteristic_length, Range::positive());
+}
+
+// A box or sphere in material space: a removed region, or (in "strength") one with its failure stress.
+template <class V>
+void describe(V& v, SolidRegion& r) {
+  v.choice("shape", r.shape, {"box", "sphere"}, kRequired);
+  v.numbers("center", r.center, Range::any(), kRequired);
+  if (r.shape == "box") v.numbers("half_extents", r.half_extents, Range::positive(), kRequired);
+  if (r.shape == "sphere") v.number("radius", r.radius, Range::positive(), kRequired);
+  v.number("failure_stress", r.failure_stress, Range::positive());
+}
+
+template <class V>
+void describe(V& v, WeibullSpec& w) {
+  v.number("modulus", w.modulus, Range::positive(), kRequired);
+  v.boolean("scale_is_mean", w.scale_is_mean);
+  v.integer("seed", w.seed, Range::closed(0, 2147483647));
+}
+
+template <class V>
+void describe(V& v, SolidStrength& s) {
+  v.objects("regions", s.regions, 0);
+  for (size_t i = 0; i < s.regions.size(); ++i)
+    v.check("regions/" + std::to_string(i), [&s, i] {
+      return s.regions[i].failure_stress ? "" : "a strength region needs \"failure_stress\"";
+    });
+  v.object("weibull", s.weibull);
+}
+
+template <class V>
+void describe(V& v, HertzSpec& h) {
+  v.number("E", h.youngs_modulus, Range::positive(), kRequired);
+  v.number("nu", h.poisson_ratio, Range::open(-1.0, 0.5), kRequired);
+  v.number("radius", h.radius, Range::positive(), kRequired);
+  v.number("mass", h.mass, Range::positive(), kRequired);
+  v.number("speed", h.speed, Range::positive(), kRequired);
+}
+
+template <class V>
+void describe(V& v, ImpactSpec& i) {
+  v.numbers("point", i.point, Range::any(), kRequired);
+  v.numbers("direction", i.direction, Range::any(), kRequired);
+  v.check("direction", [&] { return detail::nonzero_direction(i.direction); });
+  v.number("impulse", i.impulse, Range::positive(), kRequired);
+  v.number("duration", i.duration, Range::positive());
+  v.object("hertz", i.hertz);
+  v.check("duration", [&] {
+    return i.duration.has_value() == i.hertz.has_value()
+               ? "an impact needs exactly one of \"duration\" or \"hertz\" (the projectile of Eq. 3.11)"
+               : "";
+  });
+  v.number("start_time", i.start_time, Range::non_negative());
+  v.number("radius", i.radius, Range::positive());
+}
+
+template <class V>
+void describe(V& v, FractureStop& s) {
+  v.number("damaged_fraction", s.damaged_fraction, Range::left_open(0.0, 1.0));
+  v.integer("max_steps", s.max_steps, Range::closed(1, 100000000));
+  v.number("max_time", s.max_time, Range::positive());
+}
+
+template <class V>
+void describe(V& v, SolidFracture& f) {
+  v.number("grid_spacing", f.grid_spacing, Range::positive());
+  v.number("crack_grid_spacing", f.crack_grid_spacing, Range::positive());
+  v.number("cfl", f.cfl, Range::left_open(0.0, 1.0));
+  v.boolean("two_fields", f.two_fields);
+  v.boolean("field_contact", f.field_contact);
+  v.integer("crack_interval", f.crack_interval, Range::closed(1, 1000000));
+  v.object("stop", f.stop);
+  v.check("stop", [&] {
+    return !f.stop || (!f.stop->damaged_fraction && !f.stop->max_time && !f.stop->max_steps)
+               ? "a fracture run needs a stopping criterion: \"stop\" with damaged_fraction, max_steps or max_time"
+               : "";
+  });
+  v.choice("cutter", f.cutter, {"exact", "level_set"});
+  v.number("voxel", f.voxel, Range::positive());
+  v.number("gap_width", f.gap_width, Range::non_negative());
+  v.number("sliver_volume", f.sliver_volume, Range::non_negative());
 }
 
 // The keys of a "mesh" solid or collider; a collider must give its voxel size.
@@ -168,10 +254,15 @@ void describe_mesh(V& v, MeshFile& m, Need voxel_size) {
   v.number("band_voxels", m.band_voxels, Range::closed(1.0, 100.0));
 }
 
+// A solid: Type-I particles of the shell simulation, or, with a "fracture" object, a brittle solid broken
+// by the brittle solver (docs/brittle.md: its extra shapes, sampling and keys are only allowed then).
 template <class V>
 void describe(V& v, Solid& s) {
   v.string("name", s.name);
-  v.choice("shape", s.shape, {"sphere", "box", "mesh"}, kRequired);
+  v.object("fracture", s.fracture);
+  const bool brittle = s.fracture.has_value();
+  if (brittle) v.choice("shape", s.shape, {"sphere", "box", "mesh", "cylinder", "torus"}, kRequired);
+  else v.choice("shape", s.shape, {"sphere", "box", "mesh"}, kRequired);  // cylinder, torus: brittle only
   v.number("spacing", s.spacing, Range::positive(), kRequired);
   if (s.shape == "mesh") {
     describe_mesh(v, s.mesh, kOptional);
@@ -181,11 +272,51 @@ void describe(V& v, Solid& s) {
   } else if (s.shape == "box") {
     v.numbers("center", s.center, Range::any(), kRequired);
     v.numbers("half_extents", s.half_extents, Range::positive(), kRequired);
+  } else if (s.shape == "cylinder") {
+    v.numbers("center", s.center, Range::any(), kRequired);
+    v.number("radius", s.radius, Range::positive(), kRequired);
+    v.number("height", s.height, Range::positive(), kRequired);
+  } else if (s.shape == "torus") {
+    v.numbers("center", s.center, Range::any(), kRequired);
+    v.number("major_radius", s.major_radius, Range::positive(), kRequired);
+    v.number("minor_radius", s.minor_radius, Range::positive(), kRequired);
+    v.check("minor_radius", [&] {
+      return s.major_radius && s.minor_radius && !(*s.minor_radius < *s.major_radius)
+                 ? "minor_radius must be smaller than major_radius (a torus without a hole)"
+                 : "";
+    });
   }
-  v.choice("sampling", s.sampling, {"jittered", "poisson_disk"});
+  v.choice("sampling", s.sampling, {"jittered", "poisson_disk", "regular"});
+  v.check("sampling", [&] {
+    return !brittle && s.sampling == "regular" ? "sampling \"regular\" is only for brittle solids" : "";
+  });
   v.integer("seed", s.seed, Range::closed(0, 2147483647));
   v.object("material", s.material, kRequired);
   v.numbers("initial_velocity", s.initial_velocity, Range::any());
+  if (s.material) {
+    const SolidMaterial& m = *s.material;
+    if (brittle) {
+      v.check("material/failure_stress", [&] { return m.failure_stress ? "" : "required key is missing (a brittle solid)"; });
+      v.check("material/fracture_energy", [&] { return m.fracture_energy ? "" : "required key is missing (a brittle solid)"; });
+    }
+    v.check("material", [&] {
+      return !brittle && (m.failure_stress || m.fracture_energy || m.damage_rule || m.characteristic_length)
+                 ? "damage keys of a solid need a \"fracture\" object on the solid (docs/brittle.md)"
+                 : "";
+    });
+  }
+  v.objects("remove", s.remove, 0);
+  for (size_t i = 0; i < s.remove.size(); ++i)
+    v.check("remove/" + std::to_string(i) + "/failure_stress", [&s, i] {
+      return s.remove[i].failure_stress ? "a removed region has no failure stress (strength regions go in \"strength\")" : "";
+    });
+  v.object("strength", s.strength);
+  v.objects("impacts", s.impacts, 0);
+  v.check("impacts", [&] {
+    return !brittle && (!s.remove.empty() || s.strength || !s.impacts.empty())
+               ? "\"remove\", \"strength\" and \"impacts\" are keys of brittle solids (give the solid a \"fracture\" object)"
+               : "";
+  });
 }
 
 template <class V>

@@ -7,6 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "brittle/fracture_event.hpp"
+#include "brittle/impact.hpp"
+#include "brittle/solver.hpp"
 #include "coupling/interface.hpp"
 #include "mpm/colliders.hpp"
 #include "nurbs/nurbs_surface.hpp"
@@ -90,6 +93,21 @@ struct SolidBody {
   unsigned seed = 1;
   Material material;
   Eigen::Vector3d initial_velocity = Eigen::Vector3d::Zero();
+};
+
+// A brittle solid (a solid with a "fracture" object, docs/brittle.md): its closed mesh, its sampled particles
+// with their strength, the impacts' ghost particles, and the settings of its fracture run (thesis ch. 3).
+// Everything that can be refused is checked when the scene is built, naming the JSON path.
+struct BrittleBody {
+  std::string name;
+  std::string json_path;  // "/solids/<i>", for messages
+  brittle::TriMesh mesh;  // closed, in material space (the domain the fragments are cut from)
+  std::shared_ptr<const brittle::BrittleSolid> solid;  // the particles at rest, undamaged
+  std::vector<brittle::GhostParticle> ghosts;          // all impacts
+  brittle::SolverOptions solver;  // dx, cfl, fields, stop (gravity: the scene's)
+  int crack_interval = 20;        // steps between crack extractions for the two fields
+  brittle::FractureEventOptions event;  // h_v, cutter, voxel, gap width
+  double sliver_volume = 0;       // fragments smaller than this are slivers, not counted (docs/brittle.md)
 };
 
 // Background grid and transfer scheme.
@@ -186,6 +204,7 @@ struct Model {
   GridSettings grid;
   std::vector<Shell> shells;
   std::vector<SolidBody> solids;
+  std::vector<BrittleBody> brittle_solids;  // solids with "fracture": run by the brittle solver
   std::vector<ColliderSpec> colliders;
   std::vector<Pin> pins;
   CrackSettings cracks;

@@ -93,6 +93,57 @@ struct Shell {
 struct SolidMaterial {
   Opt<std::string> model;
   Opt<double> youngs_modulus, poisson_ratio, density;
+  // Rankine damage of a brittle solid (thesis Eq. 2.28-2.31); read only with a "fracture" object.
+  Opt<double> failure_stress, fracture_energy, characteristic_length;
+  Opt<std::string> damage_rule;  // "healing" or "monotone"
+};
+
+// A box or sphere in a brittle solid's material space: particles removed there ("remove", notches) or a
+// region of its own failure stress ("strength.regions").
+struct SolidRegion {
+  Opt<std::string> shape;  // "box", "sphere"
+  Opt<Vec3> center, half_extents;
+  Opt<double> radius;
+  Opt<double> failure_stress;  // strength regions only
+};
+
+struct WeibullSpec {
+  Opt<double> modulus;
+  Opt<bool> scale_is_mean;
+  Opt<int> seed;
+};
+
+// Heterogeneous strength of a brittle solid: regions, then an optional seeded Weibull draw per particle.
+struct SolidStrength {
+  std::vector<SolidRegion> regions;
+  Opt<WeibullSpec> weibull;
+};
+
+// The projectile of an impact, for the Hertz contact time (thesis Eq. 3.8-3.11).
+struct HertzSpec {
+  Opt<double> youngs_modulus, poisson_ratio, radius, mass, speed;  // keys E, nu, radius, mass, speed
+};
+
+// An impact load on a brittle solid (thesis sec. 3.6.2, Eq. 3.12), in its material space.
+struct ImpactSpec {
+  Opt<Vec3> point, direction;
+  Opt<double> impulse, duration, start_time, radius;
+  Opt<HertzSpec> hertz;
+};
+
+struct FractureStop {
+  Opt<double> damaged_fraction, max_time;
+  Opt<int> max_steps;
+};
+
+// The brittle run of a solid (docs/brittle.md): a solid with this object is broken by the brittle solver.
+struct SolidFracture {
+  Opt<double> grid_spacing, crack_grid_spacing, cfl;
+  Opt<bool> two_fields, field_contact;
+  Opt<int> crack_interval;
+  Opt<FractureStop> stop;
+  Opt<std::string> cutter;  // "exact", "level_set"
+  Opt<double> voxel, gap_width, sliver_volume;
 };
 
 // A mesh file placed in the scene (solids and colliders of shape "mesh").
@@ -105,16 +156,23 @@ struct MeshFile {
 
 struct Solid {
   Opt<std::string> name;
-  Opt<std::string> shape;  // "sphere", "box", "mesh"
+  Opt<std::string> shape;  // "sphere", "box", "mesh"; brittle solids also "cylinder", "torus"
   Opt<Vec3> center;
   Opt<double> radius;
   Opt<Vec3> half_extents;
+  Opt<double> height;                       // cylinder (axis z)
+  Opt<double> major_radius, minor_radius;   // torus (in the xy plane)
   MeshFile mesh;
   Opt<double> spacing;
   Opt<std::string> sampling;  // "jittered", "poisson_disk"
   Opt<int> seed;
   Opt<SolidMaterial> material;
   Opt<Vec3> initial_velocity;
+  // Brittle solids (with "fracture"): removed particles, strength, impacts and the fracture run.
+  std::vector<SolidRegion> remove;
+  Opt<SolidStrength> strength;
+  std::vector<ImpactSpec> impacts;
+  Opt<SolidFracture> fracture;
 };
 
 struct Keyframe {

@@ -18,6 +18,8 @@ packages=(
   gnuplot-nox            # benchmark charts
   blender                # `shellfrac preview` and the Blender import tests (Cycles on the CPU)
   python3                # drivers of the Blender tests (tests/blender/, standard library only)
+  voro++-dev             # 3D Voronoi diagrams of damaged regions (brittle crack surfaces)
+  libcgal-dev libgmp-dev libmpfr-dev  # exact mesh booleans for fragments (brittle)
 )
 
 missing=()

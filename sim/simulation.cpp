@@ -25,6 +25,7 @@ double grid_spacing(const scene::Model& model, const World& world) {
   double smallest = 1e300;
   for (size_t i = 0; i < world.num_shells(); ++i) smallest = std::min(smallest, cell_size(world.shell(i)));
   for (const scene::model::SolidBody& b : model.solids) smallest = std::min(smallest, 2.0 * b.spacing);
+  for (const scene::model::BrittleBody& b : model.brittle_solids) smallest = std::min(smallest, b.solver.dx);
   return smallest;
 }
 
@@ -41,6 +42,7 @@ const Simulation::Stage Simulation::kStages[] = {
     {"coupling", &Simulation::stage_coupling},                // follower rows from leaders (4.8)
     {"shear_particles", &Simulation::stage_shear_particles},  // Type III positions (Eq. 4.10), director
     {"cracks", &Simulation::stage_cracks},                    // every k steps: crack graphs (4.4.2), bases (4.6)
+    {"brittle", &Simulation::stage_brittle},                  // brittle solids to t + dt (ch. 3), fracture events
 };
 
 Simulation::Simulation(const scene::Scene& scene) : Simulation(scene::build(scene)) {}
@@ -51,7 +53,8 @@ Simulation::Simulation(const scene::Model& model)
       pin_reaction_(world_.num_shells(), Eigen::Vector3d::Zero()),
       grid_(grid_spacing(model_, world_)),
       cracks_(model_, world_, grid_.dx()),
-      seams_(model_, world_) {
+      seams_(model_, world_),
+      brittle_(model_) {
   // Elastic-wave bound per shell (explicit integration): membrane waves need dt < h / c, bending
   // waves dt < sqrt(3) h^2 / (c tau), with c = sqrt(E / (rho (1 - nu^2))) and h the finer of the grid
   // spacing and the cell size.
@@ -230,6 +233,10 @@ void Simulation::stage_cracks(double) {
     seams_.update_cracks(world_, cracks_);  // may continue a crack into a coupled neighbour
     cracks_.count_state(world_);
   }
+}
+
+void Simulation::stage_brittle(double dt) {
+  if (!brittle_.empty()) brittle_.advance_to(time_ + dt);
 }
 
 void Simulation::apply_pins(double t) {

@@ -3,7 +3,7 @@
 // 4.3.2), advanced by explicit symplectic Euler through the named, timed stages of step():
 //
 //   grid_rebuild -> phantom_nodes -> p2g -> forces -> grid_update -> g2p -> coupling -> shear_particles
-//   -> cracks (every k steps)
+//   -> cracks (every k steps) -> brittle (the brittle solids, on their own grids and steps)
 //
 // Near cracks the phantom stage gives grid nodes one copy per fragment side and grid_update resolves
 // contact between the copies (thesis sec. 4.7). Constitutive updates run where their kinematics are at
@@ -21,6 +21,7 @@
 #include "mpm/sparse_grid.hpp"
 #include "scene/model.hpp"
 #include "scene/scene.hpp"
+#include "sim/brittle_system.hpp"
 #include "sim/crack_system.hpp"
 #include "sim/seam_system.hpp"
 #include "sim/span.hpp"
@@ -82,6 +83,12 @@ class Simulation {
   // Crack graph of shell i, or null when the shell cannot crack.
   const crack2d::CrackGraph* crack_graph(size_t shell) const { return cracks_.graph(shell); }
   const SeamSystem& seams() const { return seams_; }
+  // The brittle solids (docs/brittle.md) and their fracture events.
+  const BrittleSystem& brittle() const { return brittle_; }
+  // Fracture events for the brittle solids still running (called by the run driver at the scene's end).
+  void finish_brittle() { brittle_.finish_running(); }
+  // True when the scene holds only brittle solids and all of them have had their fracture event.
+  bool finished() const { return world_.num_shells() == 0 && world_.num_solids() == 0 && !brittle_.empty() && brittle_.done(); }
   // Follower control points of scene interface i that a crack across the seam has released.
   size_t released_seam_points(size_t i) const { return seams_.released_points(i); }
   // Seam coordinates (leader edge parameter in [0, 1]) where cracks meet the seam of interface i.
@@ -98,6 +105,7 @@ class Simulation {
   void stage_coupling(double dt);
   void stage_shear_particles(double dt);
   void stage_cracks(double dt);
+  void stage_brittle(double dt);
   struct Stage {
     const char* name;
     void (Simulation::*run)(double dt);
@@ -114,6 +122,7 @@ class Simulation {
   mpm::SparseGrid grid_;
   CrackSystem cracks_;
   SeamSystem seams_;
+  BrittleSystem brittle_;
   StageTimer timer_;
   double elastic_bound_ = 0;
   double time_ = 0;

@@ -1,0 +1,32 @@
+#pragma once
+#include <cmath>
+
+namespace shellfrac::brittle {
+
+// How the damage variable evolves between steps (thesis sec. 2.3.1 and 4.4.1).
+enum class DamageRule {
+  Healing,   // c^{n+1} = c_bar: damage follows the current effective stress; c_his keeps the maximum
+  Monotone,  // c^{n+1} = max(c_bar, c^n): the conventional phase-field rule
+};
+
+// An isotropic brittle solid: Neo-Hookean elasticity (thesis Eq. 2.3) with local Rankine damage by linear
+// strain softening (Eq. 2.28-2.31). SI units.
+struct BrittleMaterial {
+  double youngs_modulus = 0;   // E [Pa]
+  double poisson_ratio = 0;    // nu
+  double density = 0;          // rho [kg/m^3]
+  double failure_stress = 0;   // sigma_f [Pa]: the default; regions and Weibull sampling vary it per particle
+  double fracture_energy = 0;  // G_f [J/m^2], mode-I fracture energy
+  DamageRule rule = DamageRule::Healing;
+  // l_ch [m]; 0 means the grid-cell diagonal sqrt(3) h the thesis uses (sec. 2.3.1, Table 3.3 caption).
+  double characteristic_length = 0;
+
+  double mu() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
+  double lambda() const {
+    return youngs_modulus * poisson_ratio / ((1.0 + poisson_ratio) * (1.0 - 2.0 * poisson_ratio));
+  }
+  // Dilatational (P) wave speed sqrt((lambda + 2 mu) / rho), the CFL speed of an explicit step.
+  double wave_speed() const { return std::sqrt((lambda() + 2.0 * mu()) / density); }
+};
+
+}  // namespace shellfrac::brittle

@@ -1,0 +1,69 @@
+#include "brittle/regions.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+
+namespace shellfrac::brittle {
+
+Regions find_regions(const VoronoiDiagram& d, const std::vector<char>& crack_face) {
+  Regions r;
+  r.cell_region.assign(d.num_cells(), -1);
+  for (size_t start = 0; start < d.num_cells(); ++start) {
+    if (r.cell_region[start] >= 0) continue;
+    const int id = r.count++;
+    std::deque<int> queue{static_cast<int>(start)};
+    r.cell_region[start] = id;
+    while (!queue.empty()) {
+      const int c = queue.front();
+      queue.pop_front();
+      for (int f : d.cell_faces[static_cast<size_t>(c)]) {
+        if (crack_face[static_cast<size_t>(f)]) continue;
+        const int o = d.other(f, c);
+        if (o < 0 || r.cell_region[static_cast<size_t>(o)] >= 0) continue;
+        r.cell_region[static_cast<size_t>(o)] = id;
+        queue.push_back(o);
+      }
+    }
+  }
+  return r;
+}
+
+TriMesh region_boundary(const VoronoiDiagram& d, const Regions& r, int region) {
+  TriMesh m;
+  m.name = "region_" + std::to_string(region);
+  std::vector<int> remap(d.vertices.size(), -1);
+  auto vid = [&](int v) {
+    int& id = remap[static_cast<size_t>(v)];
+    if (id < 0) {
+      id = static_cast<int>(m.positions.size());
+      m.positions.push_back(d.vertices[static_cast<size_t>(v)]);
+    }
+    return id;
+  };
+  for (const VoronoiFace& f : d.faces) {
+    const bool in_a = r.cell_region[static_cast<size_t>(f.cell_a)] == region;
+    const bool in_b = !f.wall() && r.cell_region[static_cast<size_t>(f.cell_b)] == region;
+    if (in_a == in_b) continue;
+    std::vector<int> v = f.vertices;  // normal from a to b: outward for a
+    if (in_b) std::reverse(v.begin(), v.end());
+    // Canonical fan: start at the smallest vertex id, so both regions triangulate a face the same way.
+    std::rotate(v.begin(), std::min_element(v.begin(), v.end()), v.end());
+    for (size_t i = 1; i + 1 < v.size(); ++i) m.triangles.emplace_back(vid(v[0]), vid(v[i]), vid(v[i + 1]));
+  }
+  return m;
+}
+
+std::vector<size_t> points_per_region(const VoronoiDiagram& d, const Regions& r, const std::vector<Vec3>& points) {
+  std::vector<size_t> count(static_cast<size_t>(r.count), 0);
+  if (d.sites.empty()) return count;
+  const SiteLocator locate(d);
+  for (const Vec3& p : points) {
+    const int c = locate.cell_of(p);
+    if (c >= 0) ++count[static_cast<size_t>(r.cell_region[static_cast<size_t>(c)])];
+  }
+  return count;
+}
+
+}  // namespace shellfrac::brittle

@@ -1,0 +1,355 @@
+#include "brittle/solid_grid.hpp"
+
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "brittle/errors.hpp"
+
+namespace shellfrac::brittle {
+
+namespace {
+
+// Quadratic B-spline weights of a point on its 3 x 3 x 3 node stencil (thesis Eq. 2.10) and the offsets
+// x_i - x_p per axis.
+struct Stencil {
+  int base[3];
+  double w[3][3];
+  double d[3][3];
+};
+
+inline Stencil make_stencil(const GVec3& x, double inv_dx, double dx) {
+  Stencil s;
+  for (int a = 0; a < 3; ++a) {
+    const double q = x[a] * inv_dx;
+    const int b = static_cast<int>(std::floor(q - 0.5));
+    const double f = q - b;  // in [0.5, 1.5)
+    s.base[a] = b;
+    s.w[a][0] = 0.5 * (1.5 - f) * (1.5 - f);
+    s.w[a][1] = 0.75 - (f - 1.0) * (f - 1.0);
+    s.w[a][2] = 0.5 * (f - 0.5) * (f - 0.5);
+    s.d[a][0] = -f * dx;
+    s.d[a][1] = (1.0 - f) * dx;
+    s.d[a][2] = (2.0 - f) * dx;
+  }
+  return s;
+}
+
+}  // namespace
+
+SolidGrid::SolidGrid(double dx) : dx_(dx), inv_dx_(1.0 / dx) {
+  if (!(dx > 0)) throw InputError("grid spacing must be > 0");
+}
+
+long SolidGrid::node_index(int i, int j, int k) const {
+  const int a = i - lo_.x(), b = j - lo_.y(), c = k - lo_.z();
+  if (a < 0 || b < 0 || c < 0 || a >= dims_.x() || b >= dims_.y() || c >= dims_.z()) return -1;
+  return a + b * stride_y_ + c * stride_z_;
+}
+
+GVec3 SolidGrid::node_position(size_t index) const {
+  const long i = static_cast<long>(index) % stride_y_, j = (static_cast<long>(index) / stride_y_) % dims_.y(),
+             k = static_cast<long>(index) / stride_z_;
+  return GVec3(static_cast<double>(lo_.x() + i), static_cast<double>(lo_.y() + j), static_cast<double>(lo_.z() + k)) * dx_;
+}
+
+long SolidGrid::base_index(const GVec3& x) const {
+  long idx = 0;
+  const long stride[3] = {1, stride_y_, stride_z_};
+  for (int a = 0; a < 3; ++a) idx += (static_cast<long>(std::floor(x[a] * inv_dx_ - 0.5)) - lo_[a]) * stride[a];
+  return idx;
+}
+
+long SolidGrid::nearest_node(const GVec3& x) const {
+  return node_index(static_cast<int>(std::lround(x.x() * inv_dx_)), static_cast<int>(std::lround(x.y() * inv_dx_)),
+                    static_cast<int>(std::lround(x.z() * inv_dx_)));
+}
+
+void SolidGrid::rebuild(const GVec3* x, size_t n, const std::vector<GVec3>& extra, bool two_fields, size_t memory_limit) {
+  // 1. Bounding box (and the first non-finite particle, reported by index).
+  struct Box {
+    GVec3 lo = GVec3::Constant(std::numeric_limits<double>::infinity());
+    GVec3 hi = GVec3::Constant(-std::numeric_limits<double>::infinity());
+    size_t bad = std::numeric_limits<size_t>::max();
+  };
+  const Box box = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, n, 4096), Box(),
+      [&](const tbb::blocked_range<size_t>& r, Box b) {
+        for (size_t p = r.begin(); p != r.end(); ++p) {
+          if (!x[p].allFinite()) {
+            b.bad = std::min(b.bad, p);
+            continue;
+          }
+          b.lo = b.lo.cwiseMin(x[p]);
+          b.hi = b.hi.cwiseMax(x[p]);
+        }
+        return b;
+      },
+      [](Box a, const Box& b) {
+        a.lo = a.lo.cwiseMin(b.lo);
+        a.hi = a.hi.cwiseMax(b.hi);
+        a.bad = std::min(a.bad, b.bad);
+        return a;
+      });
+  if (box.bad != std::numeric_limits<size_t>::max()) {
+    std::ostringstream m;
+    m << "particle " << box.bad << " has a non-finite position (the step diverged; lower the time step)";
+    throw NumericalError(m.str());
+  }
+  GVec3 lo = box.lo, hi = box.hi;
+  for (const GVec3& e : extra) {
+    lo = lo.cwiseMin(e);
+    hi = hi.cwiseMax(e);
+  }
+  if (n == 0 && extra.empty()) lo = hi = GVec3::Zero();
+  Eigen::Vector3i lo_node, hi_node;
+  for (int a = 0; a < 3; ++a) {
+    lo_node[a] = static_cast<int>(std::floor(lo[a] * inv_dx_ - 0.5));
+    hi_node[a] = static_cast<int>(std::floor(hi[a] * inv_dx_ - 0.5)) + 2;
+  }
+  const Eigen::Vector3i dims = hi_node - lo_node + Eigen::Vector3i::Ones();
+  const double nodes = static_cast<double>(dims.x()) * dims.y() * dims.z();
+  const double bytes = nodes * (two_fields ? 2 * sizeof(GridNode) + sizeof(GVec3) : sizeof(GridNode));
+  if (bytes > static_cast<double>(memory_limit)) {
+    std::ostringstream m;
+    m << "the MPM grid around the solid would need " << dims.transpose() << " nodes (" << bytes / 1e9
+      << " GB, limit " << memory_limit / 1e9 << " GB): material has flown far apart or the grid spacing " << dx_
+      << " m is too small";
+    throw NumericalError(m.str());
+  }
+  lo_ = lo_node;
+  dims_ = dims;
+  stride_y_ = dims.x();
+  stride_z_ = static_cast<long>(dims.x()) * dims.y();
+  two_fields_ = two_fields;
+  const size_t count = static_cast<size_t>(nodes);
+  field_[0].assign(count, GridNode{0, {0, 0, 0}});
+  if (two_fields) {
+    field_[1].assign(count, GridNode{0, {0, 0, 0}});
+    normal_.assign(count, GVec3::Zero());
+  } else {
+    field_[1].clear();
+    normal_.clear();
+  }
+
+  // 2. Slabs four nodes thick along the longest axis; stable counting sort keeps index order inside one.
+  // Ties go to z: particles sampled in z-major order then stay contiguous inside a slab.
+  slab_axis_ = 2;
+  for (int a = 1; a >= 0; --a)
+    if (dims_[a] > dims_[slab_axis_]) slab_axis_ = a;
+  const size_t slabs = static_cast<size_t>(dims_[slab_axis_] + 3) / 4;
+  std::vector<uint32_t> slab_of(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t p = r.begin(); p != r.end(); ++p)
+      slab_of[p] = static_cast<uint32_t>((static_cast<int>(std::floor(x[p][slab_axis_] * inv_dx_ - 0.5)) - lo_[slab_axis_]) / 4);
+  });
+  slab_offsets_.assign(slabs + 1, 0);
+  for (size_t p = 0; p < n; ++p) ++slab_offsets_[slab_of[p] + 1];
+  for (size_t s = 0; s < slabs; ++s) slab_offsets_[s + 1] += slab_offsets_[s];
+  slab_order_.resize(n);
+  std::vector<uint32_t> cursor(slab_offsets_.begin(), slab_offsets_.end() - 1);
+  for (size_t p = 0; p < n; ++p) slab_order_[cursor[slab_of[p]]++] = static_cast<uint32_t>(p);
+}
+
+void SolidGrid::transfer_to_grid(const SolidView& s, double dt) {
+  const double inv_d = 4.0 * inv_dx_ * inv_dx_;  // D^-1 for quadratic B-splines (Eq. 2.24)
+  GridNode* f[2] = {field_[0].data(), two_fields_ ? field_[1].data() : field_[0].data()};
+  for_particles_coloured([&](uint32_t p) {
+    const Stencil st = make_stencil(s.x[p], inv_dx_, dx_);
+    const double mp = s.m[p];
+    // Q = m C - dt D^-1 V^0 J sigma: node i receives w (m v + Q (x_i - x_p)).
+    const GMat3 Q = mp * s.C[p] - (dt * inv_d) * s.stress[p];
+    const double mv[3] = {mp * s.v[p].x(), mp * s.v[p].y(), mp * s.v[p].z()};
+    const long base = (st.base[0] - lo_.x()) + (st.base[1] - lo_.y()) * stride_y_ + (st.base[2] - lo_.z()) * stride_z_;
+    const FieldMask mask = s.mask ? s.mask[p] : 0;
+    const int32_t slot = two_fields_ && s.near_slot ? s.near_slot[p] : -1;
+    const bool plain = mask == 0 && slot < 0;  // most particles: one field, no crack normal
+    for (int k = 0; k < 3; ++k) {
+      const double wz = st.w[2][k], dz = st.d[2][k];
+      for (int j = 0; j < 3; ++j) {
+        const double wyz = st.w[1][j] * wz, dy = st.d[1][j];
+        double row[3];
+        for (int a = 0; a < 3; ++a) row[a] = mv[a] + Q(a, 1) * dy + Q(a, 2) * dz;
+        const long idx = base + j * stride_y_ + k * stride_z_;
+        if (plain) {
+          GridNode* nd = f[0] + idx;
+          for (int i = 0; i < 3; ++i) {
+            const double w = st.w[0][i] * wyz, ddx = st.d[0][i];
+            nd[i].m += w * mp;
+            nd[i].p[0] += w * (row[0] + Q(0, 0) * ddx);
+            nd[i].p[1] += w * (row[1] + Q(1, 0) * ddx);
+            nd[i].p[2] += w * (row[2] + Q(2, 0) * ddx);
+          }
+          continue;
+        }
+        for (int i = 0; i < 3; ++i) {
+          const double w = st.w[0][i] * wyz, ddx = st.d[0][i];
+          const int field = static_cast<int>((mask >> (i + 3 * j + 9 * k)) & 1u);
+          GridNode& nd = f[field][idx + i];
+          nd.m += w * mp;
+          for (int a = 0; a < 3; ++a) nd.p[a] += w * (row[a] + Q(a, 0) * ddx);
+          if (slot >= 0) normal_[static_cast<size_t>(idx + i)] += (field ? -w * mp : w * mp) * s.near_normal[slot];
+        }
+      }
+    }
+  });
+}
+
+void SolidGrid::add_point_forces(const std::vector<GVec3>& x, const std::vector<GVec3>& force, const std::vector<int>& field, double dt) {
+  for (size_t g = 0; g < x.size(); ++g) {
+    const Stencil st = make_stencil(x[g], inv_dx_, dx_);
+    GridNode* f = field_[two_fields_ && field[g] == 1 ? 1 : 0].data();
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) {
+          const long idx = node_index(st.base[0] + i, st.base[1] + j, st.base[2] + k);
+          if (idx < 0) continue;
+          const double w = st.w[0][i] * st.w[1][j] * st.w[2][k] * dt;
+          for (int a = 0; a < 3; ++a) f[idx].p[a] += w * force[g][a];
+        }
+  }
+}
+
+void SolidGrid::update_velocities(double dt, const GVec3& g) {
+  for (int fi = 0; fi < (two_fields_ ? 2 : 1); ++fi) {
+    GridNode* f = field_[fi].data();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, num_nodes(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        GridNode& nd = f[i];
+        if (nd.m > 0) {
+          const double inv = 1.0 / nd.m;
+          for (int a = 0; a < 3; ++a) nd.p[a] = nd.p[a] * inv + dt * g[a];
+        } else {
+          nd.p[0] = nd.p[1] = nd.p[2] = 0.0;
+        }
+      }
+    });
+  }
+}
+
+FieldContactStats SolidGrid::resolve_field_contact() {
+  FieldContactStats stats;
+  if (!two_fields_) return stats;
+  struct Count {
+    size_t both = 0, contact = 0;
+  };
+  const Count c = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, num_nodes(), 4096), Count(),
+      [&](const tbb::blocked_range<size_t>& r, Count acc) {
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+          GridNode &a = field_[0][i], &b = field_[1][i];
+          if (!(a.m > 0) || !(b.m > 0)) continue;
+          ++acc.both;
+          const double len = normal_[i].norm();
+          if (!(len > 0)) continue;
+          // normal_ points from the crack into field 0: field 0's outward normal (towards field 1) is -n,
+          // field 1's is +n (thesis: n_{i,0} = n_i, n_{i,1} = -n_i with n taken outward from each field).
+          const GVec3 n = normal_[i] / len;
+          const GVec3 va(a.p[0], a.p[1], a.p[2]), vb(b.p[0], b.p[1], b.p[2]);
+          const GVec3 vcm = (a.m * va + b.m * vb) / (a.m + b.m);
+          // Eq. 3.7 for field 0 with n_0 = -n: (v_cm - v_0) . n_0 < 0 <=> the fields approach; the same
+          // holds for field 1 then (both sides of one test).
+          const double gap_rate = (vcm - va).dot(-n);
+          if (!(gap_rate < 0)) continue;
+          ++acc.contact;
+          // Eq. 3.6: v_xi = v~_xi + dt f_ct / m with f_ct = m / dt ((v_cm - v~_xi) . n_xi) n_xi.
+          const GVec3 na = va + ((vcm - va).dot(n)) * n;
+          const GVec3 nb = vb + ((vcm - vb).dot(n)) * n;
+          for (int d = 0; d < 3; ++d) {
+            a.p[d] = na[d];
+            b.p[d] = nb[d];
+          }
+        }
+        return acc;
+      },
+      [](Count x, const Count& y) {
+        x.both += y.both;
+        x.contact += y.contact;
+        return x;
+      });
+  stats.two_field_nodes = c.both;
+  stats.contact_nodes = c.contact;
+  return stats;
+}
+
+void SolidGrid::apply_colliders(const std::vector<mpm::Collider>& colliders, double t) {
+  if (colliders.empty()) return;
+  std::vector<Eigen::Isometry3d> inverse_pose;
+  for (const mpm::Collider& c : colliders) inverse_pose.push_back(c.motion.pose(t).inverse());
+  for (int fi = 0; fi < (two_fields_ ? 2 : 1); ++fi) {
+    GridNode* f = field_[fi].data();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, num_nodes(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        if (!(f[i].m > 0)) continue;
+        const GVec3 x = node_position(i);
+        for (size_t c = 0; c < colliders.size(); ++c) {
+          const mpm::Collider& col = colliders[c];
+          const GVec3 local = inverse_pose[c] * x;
+          if (col.shape->signed_distance(local) > 0) continue;
+          const GVec3 normal = inverse_pose[c].linear().transpose() * col.shape->normal(local);
+          const GVec3 v = mpm::collide_velocity(GVec3(f[i].p[0], f[i].p[1], f[i].p[2]), col.motion.velocity_at(x, t), normal,
+                                                col.boundary, col.friction);
+          for (int d = 0; d < 3; ++d) f[i].p[d] = v[d];
+        }
+      }
+    });
+  }
+}
+
+void SolidGrid::transfer_to_particles(const SolidView& s, double dt) const {
+  const double inv_d = 4.0 * inv_dx_ * inv_dx_;
+  const GridNode* f[2] = {field_[0].data(), two_fields_ ? field_[1].data() : field_[0].data()};
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, s.count, 2048), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t p = r.begin(); p != r.end(); ++p) {
+      const Stencil st = make_stencil(s.x[p], inv_dx_, dx_);
+      const long base = (st.base[0] - lo_.x()) + (st.base[1] - lo_.y()) * stride_y_ + (st.base[2] - lo_.z()) * stride_z_;
+      const FieldMask mask = s.mask ? s.mask[p] : 0;
+      // a[0..2]: sum w v; a[3..11]: sum w v (x_i - x_p)^T column by column.
+      double a[12] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+      for (int k = 0; k < 3; ++k) {
+        const double wz = st.w[2][k], dz = st.d[2][k];
+        for (int j = 0; j < 3; ++j) {
+          const double wyz = st.w[1][j] * wz, dy = st.d[1][j];
+          const long idx = base + j * stride_y_ + k * stride_z_;
+          double sx = 0, sy = 0, sz = 0, tx = 0, ty = 0, tz = 0;
+          for (int i = 0; i < 3; ++i) {
+            const GridNode& nd = f[(mask >> (i + 3 * j + 9 * k)) & 1u][idx + i];
+            const double w = st.w[0][i] * wyz, ddx = st.d[0][i];
+            const double vx = w * nd.p[0], vy = w * nd.p[1], vz = w * nd.p[2];
+            sx += vx;
+            sy += vy;
+            sz += vz;
+            tx += vx * ddx;
+            ty += vy * ddx;
+            tz += vz * ddx;
+          }
+          a[0] += sx;
+          a[1] += sy;
+          a[2] += sz;
+          a[3] += tx;
+          a[4] += ty;
+          a[5] += tz;
+          a[6] += sx * dy;
+          a[7] += sy * dy;
+          a[8] += sz * dy;
+          a[9] += sx * dz;
+          a[10] += sy * dz;
+          a[11] += sz * dz;
+        }
+      }
+      const GVec3 v(a[0], a[1], a[2]);
+      GMat3 C;
+      C << a[3], a[6], a[9], a[4], a[7], a[10], a[5], a[8], a[11];
+      C *= inv_d;
+      s.v[p] = v;
+      s.C[p] = C;
+      s.F[p] = (GMat3::Identity() + dt * C) * s.F[p];  // Eq. 2.26
+      s.x[p] += dt * v;                                 // Eq. 2.21
+    }
+  });
+}
+
+}  // namespace shellfrac::brittle

@@ -1,0 +1,223 @@
+#include "brittle/solver.hpp"
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "brittle/errors.hpp"
+
+namespace shellfrac::brittle {
+
+namespace {
+
+class Timer {
+ public:
+  explicit Timer(double& sink) : sink_(sink), start_(std::chrono::steady_clock::now()) {}
+  ~Timer() { sink_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+
+ private:
+  double& sink_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace
+
+const char* to_string(StopReason r) {
+  switch (r) {
+    case StopReason::None: return "none";
+    case StopReason::DamagedFraction: return "damaged_fraction";
+    case StopReason::StepCount: return "max_steps";
+    case StopReason::Time: return "max_time";
+  }
+  return "none";
+}
+
+BrittleSolver::BrittleSolver(BrittleSolid& solid, SolverOptions options)
+    : solid_(solid), options_(options), grid_(options.dx) {
+  if (!(options_.dx > 0)) throw InputError("solver: grid spacing dx must be > 0");
+  if (options_.dt < 0) throw InputError("solver: dt must be >= 0");
+  if (!(options_.cfl > 0)) throw InputError("solver: cfl must be > 0");
+  if (solid_.brittleness.size() != solid_.size() || solid_.failure_stress.size() != solid_.size())
+    throw InputError("solver: call BrittleSolid::set_strength before solving");
+  fixed_dt_ = options_.dt > 0;
+  dt_ = fixed_dt_ ? options_.dt : stable_time_step();
+  damaged_ = solid_.count_damaged();
+}
+
+double BrittleSolver::stable_time_step() const {
+  const auto& v = solid_.particles.v;
+  const double vmax = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, v.size(), 8192), 0.0,
+      [&](const tbb::blocked_range<size_t>& r, double m) {
+        for (size_t p = r.begin(); p != r.end(); ++p) m = std::max(m, v[p].norm());
+        return m;
+      },
+      [](double a, double b) { return std::max(a, b); });
+  return options_.cfl * options_.dx / (solid_.material.wave_speed() + vmax);
+}
+
+double BrittleSolver::crack_radius() const { return 3.0 * std::sqrt(3.0) * options_.dx * 1.05; }
+
+void BrittleSolver::add_ghosts(const std::vector<GhostParticle>& ghosts) {
+  for (const GhostParticle& g : ghosts) {
+    if (g.anchor >= solid_.size()) throw InputError("ghost particle anchored to a particle that does not exist");
+    ghosts_.push_back(g);
+  }
+}
+
+void BrittleSolver::set_crack(const TriMesh& crack) {
+  Timer t(times_.cracks);
+  if (!options_.two_fields || crack.triangles.empty()) {
+    sides_.clear();
+    return;
+  }
+  sides_.set_crack(crack, solid_.rest, crack_radius(), options_.dx);
+}
+
+CrackExtraction BrittleSolver::update_crack(const CrackExtractionOptions& options) {
+  CrackExtraction crack;
+  {
+    Timer t(times_.cracks);
+    if (solid_.count_damaged(options.grid.damage_threshold) > 0) crack = extract_crack(solid_.rest, solid_.damage_history(), options);
+  }
+  set_crack(crack_surface_mesh(crack));
+  return crack;
+}
+
+double BrittleSolver::damaged_fraction() const {
+  return solid_.size() ? static_cast<double>(damaged_) / static_cast<double>(solid_.size()) : 0.0;
+}
+
+Vec3 BrittleSolver::momentum() const {
+  Vec3 p = Vec3::Zero();
+  for (size_t i = 0; i < solid_.size(); ++i) p += solid_.particles.mass[i] * solid_.particles.v[i];
+  return p;
+}
+
+SolidView BrittleSolver::view() {
+  SolidView s;
+  mpm::SolidParticles& q = solid_.particles;
+  s.count = q.size();
+  s.x = q.x.data();
+  s.v = q.v.data();
+  s.m = q.mass.data();
+  s.C = q.C.data();
+  s.F = q.F.data();
+  s.stress = q.stress.data();
+  if (sides_.active()) {
+    s.mask = sides_.masks();
+    s.near_slot = sides_.slots();
+    s.near_normal = sides_.normals();
+  }
+  return s;
+}
+
+void BrittleSolver::step() {
+  if (!fixed_dt_) dt_ = stable_time_step();
+  stage_p2g();
+  stage_forces();
+  stage_grid_update();
+  stage_g2p();
+  stage_damage();
+}
+
+namespace {
+// Fraction of the step [t, t + dt) in which a ghost active on [start, end) acts: the impulse delivered
+// is the force times the active time, exactly, whatever the step size.
+double active_fraction(const GhostParticle& g, double t, double dt) {
+  const double overlap = std::min(t + dt, g.end) - std::max(t, g.start);
+  return overlap > 0 ? overlap / dt : 0.0;
+}
+}  // namespace
+
+void BrittleSolver::stage_p2g() {
+  Timer t(times_.p2g);
+  ghost_x_.clear();
+  for (const GhostParticle& g : ghosts_)
+    if (active_fraction(g, time_, dt_) > 0) ghost_x_.push_back(g.rest + (solid_.particles.x[g.anchor] - solid_.rest[g.anchor]));
+  grid_.rebuild(solid_.particles.x.data(), solid_.size(), ghost_x_, sides_.active(), options_.memory_limit);
+  if (sides_.active()) sides_.classify(grid_, solid_.particles.x.data());
+  grid_.transfer_to_grid(view(), dt_);
+}
+
+void BrittleSolver::stage_forces() {
+  Timer t(times_.forces);
+  if (ghost_x_.empty()) return;
+  std::vector<Vec3> f;
+  std::vector<int> field;
+  for (const GhostParticle& g : ghosts_) {
+    const double active = active_fraction(g, time_, dt_);
+    if (!(active > 0)) continue;
+    f.push_back(active * g.force);
+    // The ghost acts on the field of its anchor particle's side.
+    const int32_t s = sides_.slot(g.anchor);
+    const Vec3 xg = g.rest + (solid_.particles.x[g.anchor] - solid_.rest[g.anchor]);
+    const long node = grid_.nearest_node(xg);
+    field.push_back(s >= 0 && node >= 0 ? sides_.field_at(static_cast<size_t>(node), sides_.normals()[s]) : 0);
+  }
+  grid_.add_point_forces(ghost_x_, f, field, dt_);
+}
+
+void BrittleSolver::stage_grid_update() {
+  Timer t(times_.grid_update);
+  grid_.update_velocities(dt_, options_.gravity);
+  contact_ = FieldContactStats{};
+  if (sides_.active() && options_.field_contact) contact_ = grid_.resolve_field_contact();
+  grid_.apply_colliders(colliders_, time_ + dt_);
+}
+
+void BrittleSolver::stage_g2p() {
+  Timer t(times_.g2p);
+  grid_.transfer_to_particles(view(), dt_);
+  if (!colliders_.empty()) mpm::project_particles(solid_.particles.x, solid_.particles.v, colliders_, time_ + dt_);
+  time_ += dt_;
+  ++steps_;
+}
+
+void BrittleSolver::stage_damage() {
+  Timer t(times_.damage);
+  mpm::SolidParticles& q = solid_.particles;
+  const double mu = q.material.mu, lambda = q.material.lambda;
+  const size_t n = solid_.size();
+  const DamageRule rule = solid_.material.rule;
+  const bool damage = options_.damage;
+  const double now = time_;
+  // The first bad particle (inverted or non-finite F) in index order, for the error message.
+  const size_t bad = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, n, 2048), std::numeric_limits<size_t>::max(),
+      [&](const tbb::blocked_range<size_t>& r, size_t first_bad) {
+        for (size_t p = r.begin(); p != r.end(); ++p) {
+          const Mat3& F = q.F[p];
+          const double J = F.determinant();
+          if (!(J > 0) || !F.allFinite()) {
+            first_bad = std::min(first_bad, p);
+            continue;
+          }
+          if (damage)
+            q.stress[p] = damage_step(F, q.volume[p], mu, lambda, solid_.failure_stress[p], solid_.brittleness[p], rule, now,
+                                      solid_.damage[p]);
+          else
+            q.stress[p] = q.volume[p] * neo_hookean_kirchhoff(F, mu, lambda);
+        }
+        return first_bad;
+      },
+      [](size_t a, size_t b) { return std::min(a, b); });
+  if (bad != std::numeric_limits<size_t>::max()) {
+    std::ostringstream m;
+    m << "particle " << bad << " (rest position " << solid_.rest[bad].transpose() << ") inverted or diverged at step "
+      << steps_ << " (det F = " << q.F[bad].determinant() << "); lower the time step (cfl) or the loading";
+    throw NumericalError(m.str());
+  }
+  damaged_ = solid_.count_damaged();
+  const StoppingCriteria& s = options_.stop;
+  if (s.damaged_fraction > 0 && damaged_fraction() >= s.damaged_fraction) reason_ = StopReason::DamagedFraction;
+  else if (s.max_steps > 0 && steps_ >= s.max_steps) reason_ = StopReason::StepCount;
+  else if (s.max_time > 0 && time_ >= s.max_time) reason_ = StopReason::Time;
+}
+
+}  // namespace shellfrac::brittle

@@ -1,0 +1,112 @@
+#pragma once
+#include <array>
+#include <string>
+#include <vector>
+
+#include "brittle/brittle_solid.hpp"
+#include "brittle/crack_sides.hpp"
+#include "brittle/crack_surface.hpp"
+#include "brittle/impact.hpp"
+#include "brittle/solid_grid.hpp"
+#include "mpm/colliders.hpp"
+
+namespace shellfrac::brittle {
+
+// When a fracture run ends (thesis sec. 3.2, Table 3.3 MPM_dthresh): whichever criterion is met first.
+struct StoppingCriteria {
+  double damaged_fraction = 0;  // stop once this fraction of particles has c_his >= 1 (0 = off)
+  size_t max_steps = 0;         // (0 = off)
+  double max_time = 0;          // [s] (0 = off)
+};
+
+enum class StopReason { None, DamagedFraction, StepCount, Time };
+const char* to_string(StopReason r);
+
+struct SolverOptions {
+  double dx = 0;               // MPM grid spacing h
+  double dt = 0;               // time step; 0 = cfl * dx / (P-wave speed + max particle speed)
+  double cfl = 0.3;
+  Vec3 gravity = Vec3::Zero();
+  bool damage = true;          // Rankine damage (thesis sec. 2.3); off = elastic
+  bool two_fields = true;      // two velocity fields across extracted cracks (sec. 3.4); off = single field
+  bool field_contact = true;   // normal contact between the fields (Eq. 3.6-3.7)
+  StoppingCriteria stop;
+  size_t memory_limit = size_t{4} << 30;  // bytes the dense grid may take
+};
+
+// Seconds spent in each stage since construction (wall clock, for summary.json).
+struct StageTimes {
+  double p2g = 0, forces = 0, grid_update = 0, g2p = 0, damage = 0, cracks = 0;
+  double total() const { return p2g + forces + grid_update + g2p + damage + cracks; }
+};
+
+// Advances one brittle solid with damage and (optionally) two velocity fields through named stages:
+//   p2g          grid rebuild, crack-side classification, mass/momentum/MLS-stress scatter (Eq. 2.23,
+//                2.24, 3.3-3.5)
+//   forces       impact loads through ghost particles (Eq. 3.12)
+//   grid_update  velocities and gravity (Eq. 2.19), field contact (Eq. 3.6-3.7), colliders
+//   g2p          particle velocity, affine C, F and position (Eq. 2.20, 2.25, 2.26, 2.21); collider
+//                projection of particles
+//   damage       effective stress, c, c_his, tau_p and the weakened stress (Eq. 2.28-2.31)
+// step() runs them in this order. Crack extraction is not a stage of the step: the caller extracts a
+// crack surface from the damage history (extract_crack_surface) when it wants and hands it to set_crack,
+// which re-classifies the particles for the two fields.
+class BrittleSolver {
+ public:
+  BrittleSolver(BrittleSolid& solid, SolverOptions options);
+
+  void add_collider(mpm::Collider collider) { colliders_.push_back(std::move(collider)); }
+  // Adds the ghost particles of an impact (see impact_ghosts).
+  void add_ghosts(const std::vector<GhostParticle>& ghosts);
+  // Crack surface (material space) for the two velocity fields; an empty mesh returns to one field.
+  void set_crack(const TriMesh& crack);
+  // Crack extraction on demand (thesis sec. 3.3, every ten steps in sec. 3.8): extracts the crack from
+  // the current damage history and hands it to set_crack. Timed as the "cracks" stage.
+  CrackExtraction update_crack(const CrackExtractionOptions& options);
+  double crack_radius() const;  // material distance within which particles are classified
+
+  void step();
+  void stage_p2g();
+  void stage_forces();
+  void stage_grid_update();
+  void stage_g2p();
+  void stage_damage();
+
+  // Stops when a criterion of options().stop is met (checked after each step's damage stage).
+  bool should_stop() const { return reason_ != StopReason::None; }
+  StopReason stop_reason() const { return reason_; }
+  double time() const { return time_; }
+  size_t steps() const { return steps_; }
+  double dt() const { return dt_; }
+  size_t damaged_count() const { return damaged_; }
+  double damaged_fraction() const;
+  const SolverOptions& options() const { return options_; }
+  const SolidGrid& grid() const { return grid_; }
+  const CrackSides& sides() const { return sides_; }
+  const StageTimes& times() const { return times_; }
+  FieldContactStats last_contact() const { return contact_; }
+  BrittleSolid& solid() { return solid_; }
+  // Total linear momentum sum m v of the particles.
+  Vec3 momentum() const;
+  // Stable time step for the current state: cfl dx / (P-wave speed + largest particle speed).
+  double stable_time_step() const;
+  void mark_fixed_time_step() { fixed_dt_ = true; }
+
+ private:
+  SolidView view();
+  BrittleSolid& solid_;
+  SolverOptions options_;
+  SolidGrid grid_;
+  CrackSides sides_;
+  std::vector<mpm::Collider> colliders_;
+  std::vector<GhostParticle> ghosts_;
+  std::vector<Vec3> ghost_x_;
+  double time_ = 0, dt_ = 0;
+  bool fixed_dt_ = false;
+  size_t steps_ = 0, damaged_ = 0;
+  StopReason reason_ = StopReason::None;
+  StageTimes times_;
+  FieldContactStats contact_;
+};
+
+}  // namespace shellfrac::brittle

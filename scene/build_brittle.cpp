@@ -1,0 +1,279 @@
+// Brittle solids of a scene (solids with a "fracture" object, docs/brittle.md): the closed mesh of the
+// object, its particles with their strength, the impacts as ghost particles and the settings of the
+// fracture run. Everything the run could refuse later (an open mesh, an impact off the object, a crack
+// grid or voxel too fine for memory) is refused here, before any output, with the JSON path.
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "brittle/crack_grid.hpp"
+#include "brittle/primitives.hpp"
+#include "brittle/solid_grid.hpp"
+#include "core/format.hpp"
+#include "scene/build_context.hpp"
+#include "scene/mesh_import.hpp"
+
+namespace shellfrac::scene::detail {
+
+namespace {
+
+using brittle::TriMesh;
+using BVec3 = Eigen::Vector3d;
+
+// Memory the run may take for one grid or level-set set (the brittle library's own limits).
+constexpr double kCrackGridLimit = double(size_t{2} << 30);
+constexpr double kSolverGridLimit = double(size_t{4} << 30);
+
+// OBJ with its texture coordinates: a vertex per (position, uv) corner, polygons fanned.
+TriMesh read_obj(const std::filesystem::path& file, double scale, const BVec3& translate) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error("cannot open the mesh file");
+  std::vector<BVec3> v;
+  std::vector<Eigen::Vector2d> vt;
+  TriMesh m;
+  std::map<std::pair<long, long>, int> corner;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream s(line);
+    std::string tag;
+    s >> tag;
+    if (tag == "v" || tag == "vt") {  // strtod, so that "nan" reaches the closed-solid check as NaN
+      std::string word;
+      std::vector<double> c;
+      while (c.size() < 3 && s >> word) c.push_back(std::strtod(word.c_str(), nullptr));
+      if (c.size() < (tag == "v" ? 3u : 2u)) throw std::runtime_error("a vertex needs its coordinates: " + line);
+      if (tag == "v") v.push_back(scale * BVec3(c[0], c[1], c[2]) + translate);
+      else vt.emplace_back(c[0], c[1]);
+    } else if (tag == "f") {
+      std::vector<int> ids;
+      std::string c;
+      while (s >> c) {
+        long pi = std::stol(c.substr(0, c.find('/')));
+        pi = pi < 0 ? static_cast<long>(v.size()) + pi : pi - 1;
+        long ti = -1;
+        const size_t slash = c.find('/');
+        if (slash != std::string::npos && slash + 1 < c.size() && c[slash + 1] != '/') {
+          ti = std::stol(c.substr(slash + 1));
+          ti = ti < 0 ? static_cast<long>(vt.size()) + ti : ti - 1;
+        }
+        if (pi < 0 || pi >= static_cast<long>(v.size()) || ti >= static_cast<long>(vt.size()))
+          throw std::runtime_error("face refers to a vertex that does not exist: " + line);
+        auto it = corner.find({pi, ti});
+        if (it == corner.end()) {
+          it = corner.emplace(std::make_pair(pi, ti), static_cast<int>(m.positions.size())).first;
+          m.positions.push_back(v[static_cast<size_t>(pi)]);
+          m.uvs.push_back(ti >= 0 ? vt[static_cast<size_t>(ti)] : Eigen::Vector2d::Zero());
+        }
+        ids.push_back(it->second);
+      }
+      for (size_t k = 1; k + 1 < ids.size(); ++k) m.triangles.emplace_back(ids[0], ids[k], ids[k + 1]);
+    }
+  }
+  if (m.triangles.empty()) throw std::runtime_error("the file holds no faces");
+  return m;
+}
+
+// The object's surface: a primitive or a mesh file (OBJ keeps its UVs; other formats through assimp).
+TriMesh solid_mesh(const Builder& b, const Solid& s, const std::string& path) {
+  const BVec3 c = vec3_or(s.center, {0, 0, 0});
+  TriMesh m;
+  if (*s.shape == "box") {
+    m = brittle::box_mesh(c, vec3(*s.half_extents), 2);
+  } else if (*s.shape == "sphere") {
+    m = brittle::sphere_mesh(c, *s.radius, 48, 24);
+  } else if (*s.shape == "cylinder") {
+    m = brittle::cylinder_mesh(c, *s.radius, *s.height, 48);
+  } else if (*s.shape == "torus") {
+    m = brittle::torus_mesh(c, *s.major_radius, *s.minor_radius, 48, 24);
+  } else {
+    std::filesystem::path file(*s.mesh.file);
+    if (file.is_relative()) file = std::filesystem::path(b.scene.source).parent_path() / file;
+    const double scale = s.mesh.scale.value_or(1.0);
+    const BVec3 translate = vec3_or(s.mesh.translate, {0, 0, 0});
+    try {
+      if (file.extension() == ".obj" || file.extension() == ".OBJ") {
+        m = read_obj(file, scale, translate);
+      } else {
+        const TriangleMesh t = import_mesh(file.string(), scale, translate);
+        m.positions = t.vertices;
+        for (const Eigen::Vector3i& f : t.triangles) m.triangles.emplace_back(f[0], f[1], f[2]);
+      }
+    } catch (const std::exception& e) {
+      b.fail(path + "/file", file.string() + ": " + e.what());
+    }
+    // Refused here, with the file and its boundary-edge count, rather than half-way through a run.
+    try {
+      brittle::require_closed_solid(m, file.string());
+    } catch (const core::InputError& e) {
+      b.fail(path + "/file", e.what());
+    }
+    brittle::compute_vertex_normals(m);
+  }
+  m.name = s.name.value_or(*s.shape);
+  return m;
+}
+
+brittle::StrengthRegion region_of(const SolidRegion& r) {
+  brittle::StrengthRegion out;
+  out.shape = r.shape == "sphere" ? brittle::StrengthRegion::Shape::Sphere : brittle::StrengthRegion::Shape::Box;
+  out.centre = vec3(*r.center);
+  if (r.half_extents) out.half_extents = vec3(*r.half_extents);
+  out.radius = r.radius.value_or(0.0);
+  out.failure_stress = r.failure_stress.value_or(0.0);
+  return out;
+}
+
+std::string gigabytes(double bytes) { return core::format_number(bytes / 1e9, 3) + " GB"; }
+
+// Refuses a grid spacing whose grid over the object's box would not fit in `limit` bytes.
+void check_grid_memory(const Builder& b, const std::string& key, const std::string& what, double bytes, double limit,
+                       double spacing) {
+  if (bytes <= limit) return;
+  b.fail(key, what + " spacing " + core::format_number(spacing, 4) + " m is too small for memory: it would need about " +
+                  gigabytes(bytes) + " (limit " + gigabytes(limit) + "); use at least " +
+                  core::format_number(spacing * std::cbrt(bytes / limit), 4) + " m");
+}
+
+}  // namespace
+
+model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t index) {
+  const std::string path = index_path("/solids", index);
+  const SolidFracture& fr = *s.fracture;
+  model::BrittleBody out;
+  out.name = s.name.value_or(*s.shape + std::to_string(index));
+  out.json_path = path;
+  out.mesh = solid_mesh(b, s, path);
+  out.mesh.name = out.name;
+  const double spacing = *s.spacing;
+  BVec3 lo, hi;
+  brittle::bounding_box(out.mesh, lo, hi);
+  if ((hi - lo).minCoeff() < spacing) b.fail(path + "/spacing", "spacing is larger than the solid: no particle would fit");
+
+  // Grids, checked for memory before anything is allocated.
+  const double dx = fr.grid_spacing.value_or(2.0 * spacing);
+  const double h_v = fr.crack_grid_spacing.value_or(dx);
+  const bool two_fields = fr.two_fields.value_or(true);
+  double solver_nodes = 1;
+  for (int a = 0; a < 3; ++a) solver_nodes *= std::floor((hi[a] - lo[a]) / dx) + 4;
+  const double node_bytes = two_fields ? 2.0 * sizeof(brittle::GridNode) + sizeof(brittle::GVec3) : sizeof(brittle::GridNode);
+  check_grid_memory(b, path + "/fracture/grid_spacing", "MPM grid", solver_nodes * node_bytes, kSolverGridLimit, dx);
+  check_grid_memory(b, path + "/fracture/crack_grid_spacing", "crack grid (h_v)",
+                    brittle::CrackGrid::memory_estimate(lo, hi, h_v), kCrackGridLimit, h_v);
+  const bool level_set = fr.cutter == "level_set";
+  const double voxel = fr.voxel.value_or(0.0);
+  if (level_set || fr.gap_width.value_or(0.0) > 0) {
+    const double v = voxel > 0 ? voxel : (hi - lo).norm() / 200.0;
+    const double bytes = brittle::level_set_cut_bytes(v, 3.0 * brittle::surface_area(out.mesh));
+    if (bytes > kCrackGridLimit)
+      b.fail(path + "/fracture/voxel", "voxel " + core::format_number(v, 4) + " m is too small for memory: the level sets would need about " +
+                                           gigabytes(bytes) + " (limit " + gigabytes(kCrackGridLimit) + "); use at least " +
+                                           core::format_number(v * std::sqrt(bytes / kCrackGridLimit), 4) + " m");
+  }
+
+  brittle::BrittleMaterial mat;
+  const SolidMaterial& sm = *s.material;
+  mat.youngs_modulus = *sm.youngs_modulus;
+  mat.poisson_ratio = *sm.poisson_ratio;
+  mat.density = *sm.density;
+  mat.failure_stress = *sm.failure_stress;
+  mat.fracture_energy = *sm.fracture_energy;
+  mat.rule = sm.damage_rule == "monotone" ? brittle::DamageRule::Monotone : brittle::DamageRule::Healing;
+  mat.characteristic_length = sm.characteristic_length.value_or(0.0);
+
+  // Particles: sampled in the mesh, minus the removed regions; particle volumes share the mesh volume.
+  const brittle::Sampling sampling = s.sampling == "regular"        ? brittle::Sampling::Regular
+                                     : s.sampling == "poisson_disk" ? brittle::Sampling::PoissonDisk
+                                                                    : brittle::Sampling::Jittered;
+  auto solid = std::make_shared<brittle::BrittleSolid>();
+  solid->material = mat;
+  solid->spacing = spacing;
+  try {
+    const std::vector<BVec3> points =
+        brittle::sample_mesh(out.mesh, spacing, sampling, static_cast<unsigned>(s.seed.value_or(1)), b.scene.source + ": " + path);
+    const double particle_volume = brittle::mass_properties(out.mesh, 1.0).volume / static_cast<double>(points.size());
+    std::vector<brittle::StrengthRegion> removed;
+    for (const SolidRegion& r : s.remove) removed.push_back(region_of(r));
+    std::vector<BVec3> kept;
+    for (const BVec3& p : points) {
+      bool gone = false;
+      for (const brittle::StrengthRegion& r : removed) gone = gone || r.contains(p);
+      if (!gone) kept.push_back(p);
+    }
+    if (kept.empty()) b.fail(path + "/remove", "the removed regions take every particle");
+    solid->add_particles(kept, particle_volume, vec3_or(s.initial_velocity, {0, 0, 0}));
+  } catch (const SceneError&) {
+    throw;
+  } catch (const core::InputError& e) {
+    b.fail(path + "/spacing", e.what());
+  }
+
+  // Strength: regions, then the Weibull draw; H per particle (refused where sigma_f^2 l / (2 E G_f) >= 1).
+  std::vector<brittle::StrengthRegion> regions;
+  brittle::WeibullStrength weibull;
+  if (s.strength) {
+    for (const SolidRegion& r : s.strength->regions) regions.push_back(region_of(r));
+    if (const Opt<WeibullSpec>& w = s.strength->weibull) {
+      weibull.enabled = true;
+      weibull.modulus = *w->modulus;
+      weibull.scale_is_mean = w->scale_is_mean.value_or(false);
+      weibull.seed = static_cast<unsigned long long>(w->seed.value_or(1));
+    }
+  }
+  try {
+    solid->set_strength(regions, weibull, dx);
+  } catch (const core::InputError& e) {
+    b.fail(path + "/material/fracture_energy", e.what());
+  }
+
+  // Impacts: the Hertz duration needs the sampled solid (its mass and centre of mass).
+  for (size_t k = 0; k < s.impacts.size(); ++k) {
+    const ImpactSpec& im = s.impacts[k];
+    const std::string at = index_path(path + "/impacts", k);
+    brittle::Impact impact;
+    impact.point = vec3(*im.point);
+    impact.direction = vec3(*im.direction);
+    impact.impulse = *im.impulse;
+    impact.start_time = im.start_time.value_or(0.0);
+    impact.radius = im.radius.value_or(0.0);
+    try {
+      if (im.hertz) {
+        const HertzSpec& h = *im.hertz;
+        impact.duration = brittle::impact_duration(brittle::HertzBody{*h.youngs_modulus, *h.poisson_ratio, *h.radius, *h.mass},
+                                                   *solid, impact.point, *h.speed);
+      } else {
+        impact.duration = *im.duration;
+      }
+      const std::vector<brittle::GhostParticle> ghosts = brittle::impact_ghosts(impact, out.mesh, *solid, out.name);
+      out.ghosts.insert(out.ghosts.end(), ghosts.begin(), ghosts.end());
+    } catch (const core::InputError& e) {
+      b.fail(at, e.what());
+    }
+  }
+  out.solid = std::move(solid);
+
+  brittle::SolverOptions& o = out.solver;
+  o.dx = dx;
+  o.cfl = fr.cfl.value_or(0.3);
+  o.gravity = vec3_or(b.scene.gravity, {0.0, -9.81, 0.0});
+  o.two_fields = two_fields;
+  o.field_contact = fr.field_contact.value_or(true);
+  if (fr.stop) {
+    o.stop.damaged_fraction = fr.stop->damaged_fraction.value_or(0.0);
+    o.stop.max_steps = static_cast<size_t>(fr.stop->max_steps.value_or(0));
+    o.stop.max_time = fr.stop->max_time.value_or(0.0);
+  }
+  out.crack_interval = fr.crack_interval.value_or(20);
+  out.event.crack.grid.spacing = h_v;
+  out.event.fragments.cutter = level_set ? brittle::Cutter::LevelSet : brittle::Cutter::Exact;
+  out.event.fragments.voxel = voxel;
+  out.event.gap_width = fr.gap_width.value_or(0.0);
+  // Counting rule (docs/brittle.md): a piece smaller than one MPM cell, dx^3, cannot have been resolved
+  // by the simulation; it is a sliver, kept in the mesh but not counted as a fragment.
+  out.sliver_volume = fr.sliver_volume.value_or(dx * dx * dx);
+  return out;
+}
+
+}  // namespace shellfrac::scene::detail

@@ -1,0 +1,90 @@
+// The brittle keys of the scene format (scene/describe.hpp): every brittle scene reads, writes back to the
+// same document, and builds into brittle bodies whose derived inputs follow from the keys; a scene built
+// in C++ is refused with the same JSON path as the file would be.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "scene/build.hpp"
+#include "scene/json_io.hpp"
+#include "scene/scene_error.hpp"
+
+namespace shellfrac::scene {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path brittle_scene(const std::string& name) { return fs::path(SHELLFRAC_SOURCE_DIR) / "scenes" / "brittle" / (name + ".json"); }
+
+TEST(BrittleSceneKeys, EveryBrittleSceneWritesBackToItsDocument) {
+  for (const auto& e : fs::directory_iterator(fs::path(SHELLFRAC_SOURCE_DIR) / "scenes" / "brittle")) {
+    if (e.path().extension() != ".json") continue;
+    std::ifstream in(e.path());
+    const nlohmann::json original = nlohmann::json::parse(in);
+    const Scene s = load_scene(e.path().string());
+    EXPECT_EQ(to_json(s), original) << e.path();
+  }
+}
+
+TEST(BrittleSceneKeys, NotchedBeamBuildsItsBrittleBody) {
+  const Model m = load_model(brittle_scene("notched-beam").string());
+  ASSERT_EQ(m.brittle_solids.size(), 1u);
+  EXPECT_TRUE(m.solids.empty());
+  const model::BrittleBody& b = m.brittle_solids[0];
+  EXPECT_EQ(b.name, "beam");
+  EXPECT_EQ(b.json_path, "/solids/0");
+  // Regular sampling at 2.5 mm of a 0.2 x 0.02 x 0.04 m box: 80 x 8 x 16 cell centres, minus the notch
+  // (|x| < 3 mm, z < 12 mm: 2 x 8 x 5 cell centres, at x = +-1.25 mm and z = 1.25 ... 11.25 mm).
+  EXPECT_EQ(b.solid->size(), 80u * 8u * 16u - 2u * 8u * 5u);
+  // Particle volumes share the box volume (including the removed notch: the mesh is the domain).
+  EXPECT_NEAR(b.solid->particles.volume[0], 0.2 * 0.02 * 0.04 / (80.0 * 8 * 16), 1e-15);
+  EXPECT_DOUBLE_EQ(b.solver.dx, 0.005);
+  EXPECT_DOUBLE_EQ(b.event.crack.grid.spacing, 0.005);
+  EXPECT_EQ(b.crack_interval, 25);
+  EXPECT_DOUBLE_EQ(b.solver.stop.max_time, 0.012);
+  EXPECT_DOUBLE_EQ(b.solver.stop.damaged_fraction, 0.2);
+  EXPECT_DOUBLE_EQ(b.sliver_volume, 0.005 * 0.005 * 0.005);  // default: one MPM cell
+  EXPECT_EQ(m.colliders.size(), 3u);
+}
+
+TEST(BrittleSceneKeys, HertzImpactDurationFollowsEq311) {
+  const Model m = load_model(brittle_scene("spot-impact").string());
+  ASSERT_EQ(m.brittle_solids.size(), 1u);
+  const model::BrittleBody& b = m.brittle_solids[0];
+  ASSERT_FALSE(b.ghosts.empty());
+  double impulse = 0;
+  for (const auto& g : b.ghosts) impulse += g.force.norm() * (g.end - g.start);
+  EXPECT_NEAR(impulse, 6.0, 6.0 * 1e-9);  // the ghosts deliver the impulse exactly
+  const double duration = b.ghosts[0].end - b.ghosts[0].start;
+  EXPECT_GT(duration, 0.0);
+  EXPECT_LT(duration, 1e-2);
+}
+
+TEST(BrittleSceneKeys, SceneBuiltInCodeIsRefusedLikeTheFile) {
+  Scene s = load_scene(brittle_scene("notched-beam").string());
+  s.solids[0].impacts.emplace_back();
+  s.solids[0].impacts[0].point = Vec3{0, 0.01, 0.04};
+  s.solids[0].impacts[0].direction = Vec3{0, 0, -1};
+  s.solids[0].impacts[0].impulse = -1.0;
+  s.solids[0].impacts[0].duration = 1e-4;
+  try {
+    build(s);
+    ADD_FAILURE() << "a negative impulse was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.json_path(), "/solids/0/impacts/0/impulse");
+  }
+  s.solids[0].impacts[0].impulse = 1.0;
+  s.solids[0].impacts[0].point = Vec3{0.5, 0.01, 0.02};  // 0.4 m beyond the end of the beam
+  try {
+    build(s);
+    ADD_FAILURE() << "an impact off the object was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.json_path(), "/solids/0/impacts/0");
+    EXPECT_NE(e.message().find("impacts must touch the object"), std::string::npos) << e.message();
+  }
+}
+
+}  // namespace
+}  // namespace shellfrac::scene
