@@ -18,6 +18,8 @@ packages=(
   gnuplot-nox            # benchmark charts
   blender                # `shellfrac preview` and the Blender import tests (Cycles on the CPU)
   python3                # drivers of the Blender tests (tests/blender/, standard library only)
+  pybind11-dev python3-dev  # the Python module (python/, docs/python.md)
+  python3-numpy python3-pytest python3-matplotlib  # its arrays, its tests (tests/python/), its examples
 )
 
 missing=()
