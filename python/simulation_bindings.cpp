@@ -146,32 +146,36 @@ void bind_simulation(py::module_& m) {
         return names;
       },
       "Names of the solids, in scene order.");
-  c.def_property_readonly("kinetic_energy", [](py::object self) { return state_of(self).sim->kinetic_energy(); },
+  c.def_property_readonly("kinetic_energy",
+                          [](py::object self) {
+                            State& s = state_of(self);
+                            return s.locked([&] { return s.sim->kinetic_energy(); });
+                          },
                           "Kinetic energy of all particles [J] (sum 1/2 m |v|^2).");
 
   // Type II: control points x_i, v_i, m_i (thesis sec. 4.3.1).
   c.def(
-      "positions", [](py::object self, py::handle shell) {
+      "positions", [](py::object self, py::object shell) {
         const sim::Simulation& sim = *state_of(self).sim;
         return view_vec3(sim.world().shell(shell_index(sim, shell)).x, self);
       },
       py::arg("shell") = 0, "Control-point positions x_i of a shell, (n, 3) read-only view, row k = control point k "
                             "(k = i + num_u * j on the control net).");
   c.def(
-      "velocities", [](py::object self, py::handle shell) {
+      "velocities", [](py::object self, py::object shell) {
         const sim::Simulation& sim = *state_of(self).sim;
         return view_vec3(sim.world().shell(shell_index(sim, shell)).v, self);
       },
       py::arg("shell") = 0, "Control-point velocities v_i, (n, 3) read-only view.");
   c.def(
-      "masses", [](py::object self, py::handle shell) {
+      "masses", [](py::object self, py::object shell) {
         const sim::Simulation& sim = *state_of(self).sim;
         return view_scalars(sim.world().shell(shell_index(sim, shell)).mass, self);
       },
       py::arg("shell") = 0, "Lumped control-point masses m_i [kg], (n,) read-only view.");
   c.def(
       "set_velocities",
-      [](py::object self, py::handle shell, const py::array_t<double, py::array::c_style | py::array::forcecast>& v) {
+      [](py::object self, py::object shell, const py::array_t<double, py::array::c_style | py::array::forcecast>& v) {
         State& s = state_of(self);
         const size_t i = shell_index(*s.sim, shell);
         const size_t n = s.sim->world().shell(i).v.size();
@@ -189,7 +193,7 @@ void bind_simulation(py::module_& m) {
 
   // Type III: shear particles, one per cell (thesis sec. 4.3.2).
   c.def(
-      "shear_particles", [](py::object self, py::handle shell) {
+      "shear_particles", [](py::object self, py::object shell) {
         const sim::Simulation& sim = *state_of(self).sim;
         const shell::ShearParticles& p = sim.world().shell(shell_index(sim, shell)).shear;
         py::dict d;
@@ -207,13 +211,13 @@ void bind_simulation(py::module_& m) {
 
   // Type IV: quadrature points (thesis sec. 4.3.3, 4.4.1).
   c.def(
-      "quadrature_parameters", [](py::object self, py::handle shell) {
+      "quadrature_parameters", [](py::object self, py::object shell) {
         const sim::Simulation& sim = *state_of(self).sim;
         return view_vec2(sim.world().shell(shell_index(sim, shell)).inplane_parameters(), self);
       },
       py::arg("shell") = 0, "Parameter coordinates (xi_1, xi_2) of the in-plane quadrature points, (n, 2) read-only view.");
   c.def(
-      "damage", [](py::object self, py::handle shell) -> py::object {
+      "damage", [](py::object self, py::object shell) -> py::object {
         const sim::Simulation& sim = *state_of(self).sim;
         const shell::ShellPatch& p = sim.world().shell(shell_index(sim, shell));
         if (!p.fractures()) return py::none();
@@ -222,7 +226,7 @@ void bind_simulation(py::module_& m) {
       py::arg("shell") = 0,
       "Damage c per quadrature point and layer, (n, layers) read-only view; None when the shell does not fracture.");
   c.def(
-      "damage_history", [](py::object self, py::handle shell) -> py::object {
+      "damage_history", [](py::object self, py::object shell) -> py::object {
         const sim::Simulation& sim = *state_of(self).sim;
         const shell::ShellPatch& p = sim.world().shell(shell_index(sim, shell));
         if (!p.fractures()) return py::none();
@@ -231,7 +235,7 @@ void bind_simulation(py::module_& m) {
       py::arg("shell") = 0, "Damage history c_his (largest c so far), (n, layers) read-only view, or None.");
   c.def(
       "deformation_gradients",
-      [](py::object self, py::handle shell) {
+      [](py::object self, py::object shell) {
         State& s = state_of(self);
         const shell::ShellPatch& p = s.sim->world().shell(shell_index(*s.sim, shell));
         const std::vector<Eigen::Matrix3d> F = s.locked([&] { return p.deformation_gradients(); });
@@ -244,7 +248,7 @@ void bind_simulation(py::module_& m) {
 
   // Type I: solid particles.
   c.def(
-      "solid_particles", [](py::object self, py::handle solid) {
+      "solid_particles", [](py::object self, py::object solid) {
         const sim::Simulation& sim = *state_of(self).sim;
         const mpm::SolidParticles& p = sim.world().solid(solid_index(sim, solid));
         py::dict d;

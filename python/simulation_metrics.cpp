@@ -175,7 +175,7 @@ void bind_simulation_outputs(py::class_<SimulationState>& c) {
       "(as metrics in summary.json; docs/cli.md). Works after a NumericalError (values may be NaN).");
   c.def(
       "render_mesh",
-      [](py::object self, py::handle shell) {
+      [](py::object self, py::object shell) {
         State& s = state_of(self);
         const size_t i = shell_index(*s.sim, shell);
         const ShellMesh m = s.locked([&] { return shell_mesh(*s.sim, i); });
@@ -189,7 +189,7 @@ void bind_simulation_outputs(py::class_<SimulationState>& c) {
       "for plotting.");
   c.def(
       "crack_graph",
-      [](py::object self, py::handle shell) -> py::object {
+      [](py::object self, py::object shell) -> py::object {
         State& s = state_of(self);
         const size_t i = shell_index(*s.sim, shell);
         const crack2d::CrackGraph* g = s.sim->crack_graph(i);
