@@ -194,3 +194,20 @@ def test_shell_by_bad_name_or_index(tiny_drape):
         sim.positions("nope")
     with pytest.raises(IndexError):
         sim.positions(3)
+
+
+def test_solid_particle_views(tiny_drape):
+    d = tiny_drape
+    d["solids"] = [{"name": "ball", "shape": "sphere", "center": [0, 0.4, 0], "radius": 0.05, "spacing": 0.02,
+                    "material": {"E": 3e4, "nu": 0.3, "density": 600}}]
+    sim = sim_of(d)
+    assert sim.solid_names == ["ball"]
+    p = sim.solid_particles("ball")
+    n = len(p["x"])
+    assert n > 20 and p["F"].shape == (n, 3, 3) and not p["F"].flags.writeable
+    assert p["mass"] == pytest.approx(600 * p["volume"], rel=1e-12)  # m_p = rho V_p^0
+    np.testing.assert_array_equal(p["F"], np.broadcast_to(np.eye(3), (n, 3, 3)))  # undeformed at the start
+    assert (np.linalg.norm(p["x"] - [0, 0.4, 0], axis=1) <= 0.05).all()  # sampled inside the sphere
+    x0 = np.array(p["x"])
+    dt = sim.step()
+    assert np.allclose(p["x"] - x0, dt * p["v"], atol=1e-15)  # the view moved with the step
