@@ -1,5 +1,6 @@
 // shellfrac.run(): what `shellfrac run` does (output/run.hpp), returning summary.json as a dict.
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <iostream>
 #include <ostream>
@@ -33,7 +34,12 @@ constexpr bool kRunInterruptible = HasShouldStop<output::RunOptions>::value;
 template <class Options>
 void connect_interrupt(Options& options, std::atomic<bool>& interrupted) {
   if constexpr (HasShouldStop<Options>::value) {
-    options.should_stop = [&interrupted] {
+    // As Simulation.advance_to: the GIL is taken for the signal check at most every 10 ms.
+    options.should_stop = [&interrupted, last = std::chrono::steady_clock::now()]() mutable {
+      if (interrupted) return true;
+      const auto now = std::chrono::steady_clock::now();
+      if (now - last < std::chrono::milliseconds(10)) return false;
+      last = now;
       py::gil_scoped_acquire gil;
       if (PyErr_CheckSignals() != 0) interrupted = true;  // KeyboardInterrupt is now set on this thread
       return interrupted.load();

@@ -3,6 +3,8 @@
 #include <pybind11/stl.h>
 #include <tbb/info.h>
 
+#include <chrono>
+
 #include "python/arrays.hpp"
 #include "python/simulation_metrics.hpp"
 #include "python/simulation_state.hpp"
@@ -27,10 +29,16 @@ using State = SimulationState;
 template <class F>
 long stepping(State& s, F&& f) {
   bool interrupted = false;
-  // Asked after every step, with the GIL taken back for the signal check (PyErr_CheckSignals runs the
-  // Python signal handlers; in a thread other than the main one it does nothing).
+  // Asked after every step. Every 10 ms of stepping it takes the GIL back for the signal check
+  // (PyErr_CheckSignals runs the Python signal handlers; in a thread other than the main one it does
+  // nothing): not after every step, since a busy Python thread can hold the GIL for its whole switch
+  // interval (5 ms), longer than a small scene's step.
+  auto last_check = std::chrono::steady_clock::now();
   const std::function<bool()> should_stop = [&] {
     s.publish();
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_check < std::chrono::milliseconds(10)) return false;
+    last_check = now;
     py::gil_scoped_acquire gil;
     if (PyErr_CheckSignals() != 0) interrupted = true;  // the KeyboardInterrupt is now set on this thread
     return interrupted;
