@@ -84,3 +84,21 @@ def test_run_bad_scene_raises_scene_error(tiny_drape, tmp_path):
         shellfrac.run(tiny_drape, out=tmp_path / "x")
     assert e.value.json_path == "/shells/0/thickness"
     assert not (tmp_path / "x").exists()  # nothing written before the scene is accepted
+
+
+@pytest.mark.skipif(not shellfrac.run_interruptible,
+                    reason="the run driver has no stop hook yet (output::RunOptions::should_stop)")
+def test_keyboard_interrupt_stops_a_run_between_steps(tiny_drape, tmp_path):
+    import _thread
+    import threading
+
+    tiny_drape["time"]["end"] = 1000.0  # hours unless interrupted
+    timer = threading.Timer(0.5, _thread.interrupt_main)
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            shellfrac.run(tiny_drape, out=tmp_path / "int", threads=1)
+    finally:
+        timer.cancel()
+    written = json.loads((tmp_path / "int" / "summary.json").read_text())
+    assert written["status"] == "interrupted" and 0 < written["simulated_seconds"] < 1000.0
