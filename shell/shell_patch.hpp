@@ -144,6 +144,12 @@ class ShellPatch {
   std::vector<double> mid_surface_stress() const;
   // Reference volume of the shell (sum of V_q), equal to thickness x area up to quadrature error.
   double reference_volume() const;
+  // Kirchhoff-Love deformation gradient F^KL = sum_i g_i^KL (x) Gbar^i of every layer point (thesis Eq. 4.5),
+  // recomputed from the current control points with the kinematics of the force pass (the patch stores no
+  // F): index q * num_layers() + layer. The third column maps the reference normal to the current unit
+  // normal a_3 (no fibre stretch). Points that carry no stress (basis level Rigid or Removed) or whose
+  // tangents are parallel get NaN. Total F against the reference surface (plastic flow not removed).
+  std::vector<Mat3> deformation_gradients() const;
 
   // Fracture state of the Type IV points (thesis sec. 4.4.1), present only when material.fracture is on.
   bool fractures() const { return !damage_.empty(); }
@@ -170,6 +176,9 @@ class ShellPatch {
   double damage_history(size_t q, int layer) const {
     return damage_history_[q * layers_.xi3.size() + static_cast<size_t>(layer)];
   }
+  // All of c and c_his, index q * num_layers() + layer (empty when the material does not fracture).
+  const std::vector<double>& damage_values() const { return damage_; }
+  const std::vector<double>& damage_history_values() const { return damage_history_; }
   // Per in-plane point: 1 when the damage history of any layer reached 1 (the crack extraction's input).
   std::vector<unsigned char> fully_damaged_points() const;
   double max_damage() const;

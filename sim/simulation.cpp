@@ -114,7 +114,7 @@ double Simulation::stable_dt() const {
   return dt;
 }
 
-long Simulation::advance_to(double t) {
+long Simulation::advance_to(double t, const std::function<bool()>& should_stop) {
   long taken = 0;
   while (time_ < t - 1e-12 * std::max(1.0, t)) {
     const double remaining = t - time_;
@@ -123,6 +123,7 @@ long Simulation::advance_to(double t) {
     const double dt = n <= 1 ? remaining : remaining / n;
     step(dt);
     ++taken;
+    if (should_stop && should_stop()) return taken;
   }
   time_ = std::max(time_, t);
   return taken;
@@ -146,7 +147,16 @@ void Simulation::stage_grid_rebuild(double) {
     std::ostringstream os;
     os << e.what() << " at " << world_.describe_particle(e.set(), e.particle()) << " at step " << steps_
        << " (t = " << time_ << " s); the time step may be too large for this material";
-    throw NumericalError(os.str());
+    const SetRef& where = world_.set(e.set());
+    core::NumericalLocation at;
+    const bool solid = where.kind == SetKind::SolidParticles;
+    at.body = solid ? world_.solid_name(where.body) : world_.shell_name(where.body);
+    at.body_kind = solid ? "solid" : "shell";
+    at.particle_kind = solid ? "solid particle" : where.kind == SetKind::ControlPoints ? "control point" : "shear particle";
+    at.particle = static_cast<long>(e.particle());
+    at.step = steps_;
+    at.time = time_;
+    throw NumericalError(os.str(), at);
   }
 }
 
@@ -162,7 +172,8 @@ void Simulation::stage_forces(double) {
       os << f.reason << ", quadrature point " << f.quadrature_point << " at parameter (" << f.parameter.x() << ", "
          << f.parameter.y() << ") of shell \"" << world_.shell_name(i) << "\" at step " << steps_ << " (t = " << time_
          << " s)";
-      throw NumericalError(os.str());
+      throw NumericalError(os.str(), {world_.shell_name(i), "shell", "quadrature point",
+                                      static_cast<long>(f.quadrature_point), steps_, time_});
     }
   }
   for (size_t k = 0; k < world_.num_solids(); ++k) {
@@ -171,7 +182,7 @@ void Simulation::stage_forces(double) {
       std::ostringstream os;
       os << "inverted or non-finite deformation (det F <= 0) at particle " << bad << " of solid \""
          << world_.solid_name(k) << "\" at step " << steps_ << " (t = " << time_ << " s)";
-      throw NumericalError(os.str());
+      throw NumericalError(os.str(), {world_.solid_name(k), "solid", "solid particle", static_cast<long>(bad), steps_, time_});
     }
   }
   for (auto& r : pin_reaction_) r.setZero();
@@ -260,7 +271,8 @@ void Simulation::check_finite() const {
     for (size_t j = 0; j < s.size(); ++j)
       if (!s.x[j].allFinite() || !s.v[j].allFinite())
         throw NumericalError("non-finite position or velocity (NaN/inf) at particle " + std::to_string(j) +
-                             " of solid \"" + world_.solid_name(k) + "\" at step " + std::to_string(steps_));
+                             " of solid \"" + world_.solid_name(k) + "\" at step " + std::to_string(steps_),
+                             {world_.solid_name(k), "solid", "solid particle", static_cast<long>(j), steps_, time_});
   }
   for (size_t i = 0; i < world_.num_shells(); ++i) {
     const auto& p = world_.shell(i);
@@ -271,7 +283,7 @@ void Simulation::check_finite() const {
       os << "non-finite position or velocity (NaN/inf) at control point " << k << " [" << k % static_cast<size_t>(nu)
          << ", " << k / static_cast<size_t>(nu) << "] of shell \"" << world_.shell_name(i) << "\" at step " << steps_
          << " (t = " << time_ << " s); the time step may be too large for this material";
-      throw NumericalError(os.str());
+      throw NumericalError(os.str(), {world_.shell_name(i), "shell", "control point", static_cast<long>(k), steps_, time_});
     }
   }
 }

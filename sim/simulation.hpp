@@ -12,6 +12,7 @@
 // control points). The crack graphs live in a CrackSystem, the coupled seams in a SeamSystem; the two
 // talk through explicit calls in the stages below.
 #include <Eigen/Core>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -51,8 +52,10 @@ class Simulation {
 
   // One step of size dt through the stages. Throws NumericalError naming the particle, shell and step.
   void step(double dt);
-  // Steps until time t (equal steps no larger than the allowed step), returns the steps taken.
-  long advance_to(double t);
+  // Steps until time t (equal steps no larger than the allowed step), returns the steps taken. With
+  // should_stop, it is asked after every step and a true answer ends the call early (time() < t then):
+  // how a caller interrupts a long advance between steps (the Python module's KeyboardInterrupt).
+  long advance_to(double t, const std::function<bool()>& should_stop = {});
 
   double time() const { return time_; }
   long steps() const { return steps_; }
