@@ -39,6 +39,41 @@ void check_rest(const PolyMesh& current, const std::vector<Vec3>& rest, const ch
                                 std::to_string(current.positions.size()) + " vertices of mesh \"" + current.name + "\"");
 }
 
+// Calls visit(face, corner, rest length, current length) for every polygon side (a line: its one edge).
+template <class Visit>
+void for_each_side(const PolyMesh& current, const std::vector<Vec3>& rest, Visit&& visit) {
+  for (int f = 0; f < current.num_faces(); ++f) {
+    const int b = current.face_offsets[static_cast<size_t>(f)], e = current.face_offsets[static_cast<size_t>(f) + 1];
+    if (e - b < 2) continue;
+    const int edges = e - b == 2 ? 1 : e - b;
+    for (int k = 0; k < edges; ++k) {
+      const auto u = static_cast<size_t>(current.face_vertices[static_cast<size_t>(b + k)]);
+      const auto v = static_cast<size_t>(current.face_vertices[static_cast<size_t>(b + (k + 1) % (e - b))]);
+      visit(f, k, (rest[v] - rest[u]).norm(), (current.positions[v] - current.positions[u]).norm());
+    }
+  }
+}
+
+// The median rest length of the sides of positive rest length (0 when there are none): the mesh's
+// typical edge, the scale below which a side or a face is too small to measure a stretch on.
+double median_rest_side(const PolyMesh& current, const std::vector<Vec3>& rest) {
+  std::vector<double> lengths;
+  for_each_side(current, rest, [&](int, int, double rest_length, double) {
+    if (rest_length > 0.0) lengths.push_back(rest_length);
+  });
+  if (lengths.empty()) return 0.0;
+  const auto middle = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
+  std::nth_element(lengths.begin(), middle, lengths.end());
+  return *middle;
+}
+
+double diameter(const std::vector<Vec3>& corners) {
+  double d = 0.0;
+  for (size_t i = 0; i < corners.size(); ++i)
+    for (size_t j = i + 1; j < corners.size(); ++j) d = std::max(d, (corners[i] - corners[j]).norm());
+  return d;
+}
+
 }  // namespace
 
 double face_area(const PolyMesh& mesh, int face) {
@@ -130,28 +165,9 @@ double principal_stretch(const Vec3& r0, const Vec3& r1, const Vec3& r2, const V
 
 EdgeStretch max_edge_stretch(const PolyMesh& current, const std::vector<Vec3>& rest) {
   check_rest(current, rest, "max_edge_stretch");
-  auto for_each_side = [&](auto&& visit) {
-    for (int f = 0; f < current.num_faces(); ++f) {
-      const int b = current.face_offsets[static_cast<size_t>(f)], e = current.face_offsets[static_cast<size_t>(f) + 1];
-      if (e - b < 2) continue;
-      const int edges = e - b == 2 ? 1 : e - b;  // a line has one edge, a polygon one per corner
-      for (int k = 0; k < edges; ++k) {
-        const auto u = static_cast<size_t>(current.face_vertices[static_cast<size_t>(b + k)]);
-        const auto v = static_cast<size_t>(current.face_vertices[static_cast<size_t>(b + (k + 1) % (e - b))]);
-        visit(f, k, (rest[v] - rest[u]).norm(), (current.positions[v] - current.positions[u]).norm());
-      }
-    }
-  };
-  std::vector<double> rest_lengths;
-  for_each_side([&](int, int, double rest_length, double) {
-    if (rest_length > 0.0) rest_lengths.push_back(rest_length);
-  });
-  if (rest_lengths.empty()) return {};
-  const auto middle = rest_lengths.begin() + static_cast<std::ptrdiff_t>(rest_lengths.size() / 2);
-  std::nth_element(rest_lengths.begin(), middle, rest_lengths.end());
-  const double floor = kShortSideFraction * *middle;
+  const double floor = kShortSideFraction * median_rest_side(current, rest);
   EdgeStretch worst;
-  for_each_side([&](int f, int k, double rest_length, double length) {
+  for_each_side(current, rest, [&](int f, int k, double rest_length, double length) {
     if (!(rest_length > 0.0)) return;
     const double ratio = length / std::max(rest_length, floor);
     if (ratio > worst.ratio) worst = {ratio, f, k, length, rest_length};
@@ -192,6 +208,7 @@ double face_stretch(const std::vector<Vec3>& rest, const std::vector<Vec3>& curr
 
 StrandStats strand_area(const PolyMesh& current, const std::vector<Vec3>& rest_positions, double threshold) {
   check_rest(current, rest_positions, "strand_area");
+  const double floor = kShortSideFraction * median_rest_side(current, rest_positions);
   StrandStats stats;
   std::vector<Vec3> rest, now;
   for (int f = 0; f < current.num_faces(); ++f) {
@@ -203,7 +220,10 @@ StrandStats strand_area(const PolyMesh& current, const std::vector<Vec3>& rest_p
       rest.push_back(rest_positions[static_cast<size_t>(current.face_vertices[static_cast<size_t>(k)])]);
       now.push_back(current.positions[static_cast<size_t>(current.face_vertices[static_cast<size_t>(k)])]);
     }
-    const double stretch = face_stretch(rest, now);
+    // A face smaller at rest than the short-side floor is measured as the sides are: by its current
+    // size against the floor (a 1e-7 m triangle at a crack junction has an ill-determined map).
+    double stretch = face_stretch(rest, now);
+    if (diameter(rest) < floor) stretch = std::min(stretch, diameter(now) / floor);
     if (stretch > stats.max_principal_stretch) stats.max_principal_stretch = stretch, stats.worst_face = f;
     if (stretch > threshold) {
       ++stats.faces;

@@ -78,7 +78,9 @@ struct StrandStats {
 constexpr double kDegenerateWidth = 1e-6;
 double face_stretch(const std::vector<Vec3>& rest, const std::vector<Vec3>& current);
 
-// A face is a strand when its face_stretch exceeds `threshold`; its current area counts.
+// A face is a strand when its face_stretch exceeds `threshold`; its current area counts. A face whose
+// rest diameter is below kShortSideFraction of the median rest side counts with the smaller of its
+// face_stretch and its current diameter over that floor (as short sides do in max_edge_stretch).
 StrandStats strand_area(const PolyMesh& current, const std::vector<Vec3>& rest_positions, double threshold = 3.0);
 StrandStats strand_area(const PolyMesh& current, const PolyMesh& rest, double threshold = 3.0);
 

@@ -88,6 +88,27 @@ TEST(StrandArea, FacesOneNudgeWideAtRestAreDegenerate) {
   EXPECT_NEAR(strip(1e-5, 5e-5), 5.0, 1e-9);
 }
 
+TEST(StrandArea, TinyFacesCountOnlyWhenTheyGrowPastTheFloor) {
+  // A 4 x 4 grid (sides 0.25, floor 0.025) and a triangle of 1e-7 m at rest whose corners move by 1e-6:
+  // its own map reads about 10x, but it is 1e-6 / 0.025 small; opened to 0.1 m it is a strand (4x).
+  PolyMesh rest = square_grid(4);
+  const int a = static_cast<int>(rest.positions.size());
+  rest.positions.push_back(Vec3(2.0, 0.0, 0.0));
+  rest.positions.push_back(Vec3(2.0 + 1e-7, 0.0, 0.0));
+  rest.positions.push_back(Vec3(2.0, 1e-7, 0.0));
+  for (int k = 0; k < 3; ++k) rest.uvs.emplace_back(0.0, 0.0);
+  rest.add_face({a, a + 1, a + 2});
+  PolyMesh current = rest;
+  current.positions[static_cast<size_t>(a + 2)] = Vec3(2.0, 1e-6, 0.0);
+  StrandStats s = strand_area(current, rest, 3.0);
+  EXPECT_EQ(s.faces, 0);
+  EXPECT_NEAR(s.max_principal_stretch, 1.0, 1e-12);  // the grid faces; the triangle reads 1e-6 / 0.025
+  current.positions[static_cast<size_t>(a + 2)] = Vec3(2.0, 0.1, 0.0);
+  s = strand_area(current, rest, 3.0);
+  EXPECT_EQ(s.faces, 1);
+  EXPECT_NEAR(s.max_principal_stretch, std::hypot(0.1, 1e-7) / (kShortSideFraction * 0.25), 1e-9);
+}
+
 TEST(PrincipalStretch, SimpleShearHasTheClosedForm) {
   // x' = x + g y: F = [[1, g], [0, 1]], singular values (sqrt(g^2 + 4) +- g) / 2.
   const PolyMesh rest = square_grid(1);
