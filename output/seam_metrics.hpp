@@ -49,8 +49,18 @@ double model_size(const scene::Model& scene);
 // The interface's "verify" limits with the defaults filled in:
 //   max_gap            1e-9 x model_size for C0 and C1; unchecked for "none"
 //   max_angle_degrees  0.5 for C1; unchecked for C0 (a C0 seam may kink) and "none"
-//   max_stress_ratio   unchecked (reported only; see docs/coupling.md for why)
+//   max_stress_ratio   kDefaultMaxStressRatio for C0 and C1; unchecked for "none"
 SeamThresholds seam_thresholds(const scene::Model& scene, const scene::model::InterfaceSpec& spec);
+
+// Default limit on the seam stress ratio. Every shipped coupled scene stays below a quarter of it over
+// all its frames (largest: the drapes' first contact with the ball, where the median stress is a few
+// pascals), while a seam that drags material along (the L-sheet spike of issue 12) gives 1e4-1e7.
+// Measured values in docs/coupling.md ("Stress ratio").
+inline constexpr double kDefaultMaxStressRatio = 200.0;
+
+// Default limit on metrics.peak_edge_stretch (render-edge length over rest length, largest in any
+// frame) in `verify coupling`; the scene's top-level "verify": {"max_edge_stretch": ...} changes it.
+inline constexpr double kDefaultMaxEdgeStretch = 3.0;
 
 // Collects the per-frame measurements of a run for summary.json (metrics.interfaces).
 class SeamRecorder {
