@@ -40,7 +40,10 @@ PointRows rows_from_leader(const Interface& itf, const Points& leader_x) {
   const PointRows c2 = gather(leader_x, itf.leader_row2, "leader");
   PointRows out(2 * row1.rows(), 3);
   out.topRows(row1.rows()) = row1;
-  out.bottomRows(row1.rows()) = row1 + itf.M1 * (c1 - c2);  // Eq. 4.34, sign per docs/coupling.md
+  if (itf.M1_row2.size() == 0)
+    out.bottomRows(row1.rows()) = row1 + itf.M1 * (c1 - c2);  // Eq. 4.34, sign per docs/coupling.md
+  else
+    out.bottomRows(row1.rows()) = row1 + itf.M1 * c1 - itf.M1_row2 * c2;
   return out;
 }
 

@@ -49,6 +49,10 @@ struct Interface {
 
   Eigen::MatrixXd M0;  // n_eta x n_lambda: c_eta1 = M0 c_lambda1                       (Eq. 4.29)
   Eigen::MatrixXd M1;  // n_eta x n_lambda: c_eta2 = M0 c_lambda1 + M1 (c_lambda1 - c_lambda2) (Eq. 4.34)
+  // Only for an exactly closed seam a crack has cut (coupling/seam_release.hpp): the operator on
+  // c_lambda2 when it differs from the one on c_lambda1 (rational rows: row 1 and row 2 have their own
+  // shared spaces), c_eta2 = (M0 + M1) c_lambda1 - M1_row2 c_lambda2. Empty: M1 acts on both.
+  Eigen::MatrixXd M1_row2;
   Eigen::VectorXd D;   // the diagonal of mesh-dependent constants, one per refined control point
   std::vector<double> common_knots;  // k' in the follower's edge parameter (for inspection)
   // Exact closure only: the leader's rows live in shared.E1 (row 1) and shared.E2 (row 2, C1).

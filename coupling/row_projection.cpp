@@ -12,7 +12,7 @@ Eigen::MatrixXd stacked_operator(const Interface& itf) {
   Eigen::MatrixXd B = Eigen::MatrixXd::Zero(2 * nf, 2 * nl);
   B.topLeftCorner(nf, nl) = itf.M0;
   B.bottomLeftCorner(nf, nl) = itf.M0 + itf.M1;  // Eq. 4.34
-  B.bottomRightCorner(nf, nl) = -itf.M1;
+  B.bottomRightCorner(nf, nl) = itf.M1_row2.size() ? Eigen::MatrixXd(-itf.M1_row2) : Eigen::MatrixXd(-itf.M1);
   return B;
 }
 
@@ -23,7 +23,7 @@ RowProjection::RowProjection(const Interface& itf, bool exact, const Eigen::Vect
   const auto nl = static_cast<Eigen::Index>(itf.leader_row1.size());
   if (exact) {
     const Eigen::MatrixXd& E1 = itf.shared.E1;
-    E_ = Eigen::MatrixXd::Zero(c1 ? 2 * nl : nl, c1 ? 2 * E1.cols() : E1.cols());
+    E_ = Eigen::MatrixXd::Zero(c1 ? 2 * nl : nl, c1 ? E1.cols() + itf.shared.E2.cols() : E1.cols());
     E_.topLeftCorner(nl, E1.cols()) = E1;
     if (c1) E_.bottomRightCorner(nl, itf.shared.E2.cols()) = itf.shared.E2;
   } else {

@@ -1,5 +1,5 @@
 #pragma once
-#include <Eigen/Cholesky>
+#include <Eigen/QR>
 #include <Eigen/Core>
 
 #include "coupling/interface.hpp"
@@ -31,7 +31,9 @@ class RowProjection {
  private:
   Eigen::MatrixXd E_, BE_;
   Eigen::VectorXd leader_mass_, follower_mass_;
-  Eigen::LDLT<Eigen::MatrixXd> normal_;
+  // Rank-revealing: the segmented shared space of a cut exact seam can leave coefficients that no
+  // leader point sees; the minimum-norm solution gives the same rows E s.
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> normal_;
 };
 
 // B of the class comment: the follower's stacked rows from the leader's stacked rows,

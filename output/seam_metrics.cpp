@@ -218,8 +218,10 @@ SeamThresholds seam_thresholds(const scene::Model& scene, const scene::model::In
   SeamThresholds t;
   if (spec.coupled) t.max_gap = 1e-9 * model_size(scene);
   if (c1) t.max_angle_degrees = 0.5;
-  // The stress ratio is reported but not checked by default: stress that is not the seam's doing (a
-  // collider under the seam, a ring's bending peak at its sides) puts it above 2 even without a seam.
+  // Stress that is not the seam's doing (a collider under the seam, a ring's bending peak at its sides)
+  // puts the ratio well above 2 even without a seam, so the default only catches what no load explains:
+  // a seam that drags its neighbours along (docs/coupling.md, "Stress ratio").
+  if (spec.coupled) t.max_stress_ratio = kDefaultMaxStressRatio;
   auto apply = [](const scene::model::VerifyLimit& given, std::optional<double>& limit) {
     if (!given.checked) limit.reset();
     else if (given.value) limit = given.value;

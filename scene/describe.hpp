@@ -402,6 +402,11 @@ void describe(V& v, InterfaceVerify& s) {
 }
 
 template <class V>
+void describe(V& v, SceneVerify& s) {
+  v.limit("max_edge_stretch", s.max_edge_stretch, Range::positive());
+}
+
+template <class V>
 void describe(V& v, Interface& i) {
   v.object("a", i.a, kRequired);
   v.object("b", i.b, kRequired);
@@ -470,6 +475,7 @@ void describe(V& v, Scene& s) {
   v.objects("colliders", s.colliders, 0);
   v.objects("pins", s.pins, 0);
   v.objects("interfaces", s.interfaces, 0);
+  v.object("verify", s.verify);
 }
 
 }  // namespace shellfrac::scene

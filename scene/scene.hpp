@@ -228,6 +228,11 @@ struct InterfaceVerify {
   Opt<VerifyLimit> max_gap, max_angle_degrees, max_stress_ratio;
 };
 
+// The top-level "verify" object: whole-scene limits of `verify coupling` on the render mesh.
+struct SceneVerify {
+  Opt<VerifyLimit> max_edge_stretch;  // on metrics.peak_edge_stretch; default 3, null: unchecked
+};
+
 struct Interface {
   Opt<Edge> a, b;
   Opt<bool> reversed;
@@ -276,6 +281,7 @@ struct Scene {
   std::vector<Pin> pins;
   Cracks cracks;
   std::vector<Interface> interfaces;
+  Opt<SceneVerify> verify;
 
   // Where the scene came from (a file path, "<built-in default>", "<python>"): errors name it, and relative
   // mesh paths are resolved against its folder. Not part of the document.

@@ -99,10 +99,10 @@ coupling::PointRows gather_rows(const std::vector<Eigen::Vector3d>& x, const std
 void SeamSystem::build_projection(const World& world, size_t seam) {
   const scene::model::InterfaceSpec& spec = model_.interfaces[seam];
   SeamState& st = seams_[seam];
-  const bool exact = spec.coupling.exact && !st.cut;  // a cut seam falls back to its cut operators
+  const coupling::Interface& c = st.cut ? *st.cut : spec.coupling;
+  const bool exact = c.exact;  // a cut exact seam keeps its rows in the segmented shared space
   st.projection.reset();
   if (!spec.project_both_sides && !exact) return;  // thesis: the leader's rows stay as the grid moved them
-  const coupling::Interface& c = st.cut ? *st.cut : spec.coupling;
   const bool c1 = c.continuity == coupling::Continuity::C1;
   const auto lp = static_cast<size_t>(c.leader_patch), fp = static_cast<size_t>(c.follower_patch);
   const std::vector<int> lrows = stacked_rows(c.leader_row1, c.leader_row2, c1);
@@ -121,9 +121,18 @@ void SeamSystem::build_projection(const World& world, size_t seam) {
     }
     return false;
   };
+  // Under exact closure a leader row point in no segment of a cut seam (its C1 tangent torn by the
+  // crack, coupling::cut_exact_interface) is not constrained either.
+  const auto nl = static_cast<Eigen::Index>(c.leader_row1.size());
+  auto unconstrained = [&](size_t k) {
+    if (!exact) return false;
+    const auto r = static_cast<Eigen::Index>(k);
+    return r < nl ? c.shared.E1.row(r).isZero(0.0) : c.shared.E2.row(r - nl).isZero(0.0);
+  };
   st.leader_held.assign(lrows.size(), 0);
   for (size_t k = 0; k < lrows.size(); ++k)
-    st.leader_held[k] = world.transfer_mass(lp)[static_cast<size_t>(lrows[k])] == 0 || other_seam_sets(lrows[k]);
+    st.leader_held[k] = world.transfer_mass(lp)[static_cast<size_t>(lrows[k])] == 0 || other_seam_sets(lrows[k]) ||
+                        unconstrained(k);
   // The correction reaches the leader's points near the seam except those another seam sets.
   st.leader_neighbours.clear();
   for (int k : spec.leader_neighbours)
@@ -169,7 +178,7 @@ void SeamSystem::project_rows(World& world, const mpm::SparseGrid& grid, size_t 
 }
 
 void SeamSystem::couple(World& world, const mpm::SparseGrid& grid, double dt) {
-  for (size_t i = 0; i < model_.interfaces.size(); ++i) {
+  for (size_t i : order_) {
     const scene::model::InterfaceSpec& spec = model_.interfaces[i];
     if (seams_[i].projection) project_rows(world, grid, i, dt);
     const coupling::Interface& c = seams_[i].cut ? *seams_[i].cut : spec.coupling;
@@ -200,7 +209,7 @@ void SeamSystem::couple(World& world, const mpm::SparseGrid& grid, double dt) {
   // Where seams meet at a patch corner, a row-1 (C0) point of one seam can be a row-2 (C1) point of
   // another, and the later seam would open the earlier one. Closure wins: every seam's row 1 is placed
   // once more, in order, from its leader's final state.
-  for (size_t i = 0; i < model_.interfaces.size(); ++i) {
+  for (size_t i : order_) {
     const scene::model::InterfaceSpec& spec = model_.interfaces[i];
     if (!seams_[i].shares_points) continue;
     const coupling::Interface& c = seams_[i].cut ? *seams_[i].cut : spec.coupling;

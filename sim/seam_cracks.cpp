@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "coupling/seam_release.hpp"
+#include "crack2d/crack_index.hpp"
 #include "sim/crack_system.hpp"
 #include "sim/seam_system.hpp"
 
@@ -62,6 +63,24 @@ int along_cells(const nurbs::NurbsSurface& s, coupling::Side side) {
   return std::max(1, u_side ? s.knots_v().num_spans() : s.knots_u().num_spans());
 }
 
+// C1 tangents (row-1 point to its row-2 partner, in the patch's parameter plane) that a crack separates.
+coupling::TornTangents torn_tangents(const World& world, const coupling::Interface& c) {
+  coupling::TornTangents torn;
+  if (c.continuity != coupling::Continuity::C1) return torn;
+  auto tears = [&](int patch, const std::vector<int>& row1, const std::vector<int>& row2) {
+    const shell::ShellPatch& p = world.shell(static_cast<size_t>(patch));
+    std::vector<unsigned char> out(row1.size(), 0);
+    if (!p.crack()) return out;
+    for (size_t j = 0; j < row1.size(); ++j)
+      out[j] = p.crack()->crosses(p.control_parameter(static_cast<size_t>(row1[j])),
+                                  p.control_parameter(static_cast<size_t>(row2[j])));
+    return out;
+  };
+  torn.leader = tears(c.leader_patch, c.leader_row1, c.leader_row2);
+  torn.follower = tears(c.follower_patch, c.follower_row1, c.follower_row2);
+  return torn;
+}
+
 }  // namespace
 
 SeamSystem::SeamSystem(const scene::Model& model, const World& world) : model_(model), start_positions_(world.num_shells()) {
@@ -76,6 +95,38 @@ SeamSystem::SeamSystem(const scene::Model& model, const World& world) : model_(m
     for (int k : c.follower_row1) st.follower_along.push_back(seam_of(follow, fp.control_parameter(static_cast<size_t>(k))).along);
     st.released.assign(c.follower_row1.size() * (c.continuity == coupling::Continuity::C1 ? 2 : 1), 0);
     build_projection(world, i);
+  }
+  // Seams that set another seam's leader rows go first (Kahn's order; a cycle keeps the scene order).
+  auto sets_leader_of = [&](size_t j, size_t i) {
+    const coupling::Interface& a = model_.interfaces[j].coupling;
+    const coupling::Interface& b = model_.interfaces[i].coupling;
+    if (i == j || a.follower_patch != b.leader_patch) return false;
+    auto in = [](const std::vector<int>& rows, int k) { return std::find(rows.begin(), rows.end(), k) != rows.end(); };
+    for (const std::vector<int>* rows : {&b.leader_row1, &b.leader_row2})
+      for (int k : *rows)
+        if (in(a.follower_row1, k) || in(a.follower_row2, k)) return true;
+    return false;
+  };
+  const size_t n = model_.interfaces.size();
+  std::vector<unsigned char> placed(n, 0);
+  while (order_.size() < n) {
+    bool progress = false;
+    for (size_t i = 0; i < n; ++i) {
+      if (placed[i]) continue;
+      bool ready = true;
+      for (size_t j = 0; j < n; ++j) ready = ready && (placed[j] || !sets_leader_of(j, i));
+      if (!ready) continue;
+      order_.push_back(i);
+      placed[i] = 1;
+      progress = true;
+    }
+    if (progress) continue;
+    for (size_t i = 0; i < n; ++i)
+      if (!placed[i]) {
+        order_.push_back(i);
+        placed[i] = 1;
+        break;
+      }
   }
   // Seams whose row 1 shares a control point with another seam's coupled rows (patch corners): their
   // row 1 is placed once more after all seams (SeamSystem::couple).
@@ -132,8 +183,12 @@ void SeamSystem::update_cracks(World& world, CrackSystem& cracks) {
     for (int k = 0; k < 2; ++k)
       if (cracks.graph(patch[k]))
         for (const SeamHit& h : seam_hits(*cracks.graph(patch[k]), side[k])) st.cracks.push_back(h.along);
-    if (st.cracks.empty()) continue;
-    coupling::SeamCut cut = coupling::cut_interface(c, st.follower_along, st.leader_along, st.cracks);
+    const coupling::TornTangents torn = torn_tangents(world, c);
+    if (st.cracks.empty() && !torn.any()) continue;
+    // An exactly closed seam stays exact on each side of the crack (segmented shared space); the
+    // thesis's least-squares seam drops the crack's connections from its rows.
+    coupling::SeamCut cut = c.exact ? coupling::cut_exact_interface(c, st.follower_along, st.leader_along, st.cracks, torn)
+                                    : coupling::cut_interface(c, st.follower_along, st.leader_along, st.cracks, torn);
     st.released = std::move(cut.released);
     st.cut = std::move(cut.coupling);
     build_projection(world, i);

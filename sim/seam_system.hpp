@@ -64,6 +64,10 @@ class SeamSystem {
 
   const scene::Model& model_;
   std::vector<SeamState> seams_;
+  // The order the coupling stage handles the seams in: a seam whose leader rows another seam sets (a
+  // patch that follows on one seam and leads on another) comes after that seam, so that it projects and
+  // passes on the rows as they end up.
+  std::vector<size_t> order_;
   std::vector<std::vector<Eigen::Vector3d>> start_positions_;  // x^n of coupled patches
   std::vector<Eigen::Vector3d> node_scratch_;  // momentum correction per grid node, zero between uses
   std::vector<unsigned char> node_touched_;

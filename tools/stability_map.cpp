@@ -270,6 +270,11 @@ std::vector<StabilityCase> stability_cases(bool full) {
     c.variant = "C1 without momentum correction";
     c.definition.interfaces[0].momentum_correction = false;
     cases.push_back(c);
+    // The default seam closes exactly (issue 12); the thesis's least-squares Eq. 4.29 beside it.
+    c = drape;
+    c.variant = "C1 least-squares closure";
+    c.definition.interfaces[0].closure = std::string("least_squares");
+    cases.push_back(c);
   }
   add_dt_variants(drape);
   return cases;

@@ -11,6 +11,7 @@
 #include "output/scene_description.hpp"
 #include "output/seam_metrics.hpp"
 #include "scene/build.hpp"
+#include "scene/json_io.hpp"
 #include "scene/scene_error.hpp"
 
 namespace shellfrac::app {
@@ -30,8 +31,12 @@ std::string number(const std::optional<double>& v) {
   return buf;
 }
 
-// One line per metric of every interface; returns the number of failed checks.
-int print_table(const std::vector<output::InterfaceReport>& interfaces, std::ostream& out) {
+struct Tally {
+  int failed = 0, checked = 0;
+};
+
+// One line per metric of every interface.
+Tally print_table(const std::vector<output::InterfaceReport>& interfaces, std::ostream& out) {
   char line[256];
   std::snprintf(line, sizeof line, "%-15s %-28s %-5s %-19s %-11s %-11s %-6s %s\n", "interface", "leader -> follower",
                 "cont.", "metric", "max", "limit", "frame", "result");
@@ -53,13 +58,29 @@ int print_table(const std::vector<output::InterfaceReport>& interfaces, std::ost
       first = false;
     }
   }
-  out << (failed ? "FAIL: " + std::to_string(failed) + " of " + std::to_string(checked) + " checks failed\n"
-                 : "PASS: all " + std::to_string(checked) + " checks passed\n");
-  return failed;
+  return {failed, checked};
+}
+
+// The whole-scene row on the render mesh: the largest edge stretch of any frame (metrics.peak_edge_stretch)
+// against the scene's "verify": {"max_edge_stretch"} (default output::kDefaultMaxEdgeStretch, null: off).
+std::optional<double> edge_stretch_limit(const scene::Scene& s) {
+  if (!s.verify || !s.verify->max_edge_stretch) return output::kDefaultMaxEdgeStretch;
+  return s.verify->max_edge_stretch->value;
+}
+
+Tally print_mesh_row(const output::MeshReport& mesh, const std::optional<double>& limit, std::ostream& out) {
+  const bool fail = limit && !(mesh.peak_edge_stretch <= *limit);
+  char line[256];
+  std::snprintf(line, sizeof line, "%-15s %-28s %-5s %-19s %-11s %-11s %-6s %s\n", "render mesh", "whole scene", "",
+                "peak edge stretch", number(mesh.peak_edge_stretch).c_str(), number(limit).c_str(),
+                std::to_string(mesh.peak_edge_stretch_frame).c_str(), !limit ? "unchecked" : fail ? "fail" : "pass");
+  out << line;
+  return {fail ? 1 : 0, limit ? 1 : 0};
 }
 
 int run_verify(const VerifyArguments& a) {
-  const scene::Model model = scene::load_model(a.scene_path);
+  const scene::Scene input = scene::load_scene(a.scene_path);
+  const scene::Model model = scene::build(input);
   if (output::scene_seams(model).empty())
     throw scene::SceneError(model.source, "/interfaces",
                             "the scene declares no interfaces: nothing to verify (add \"interfaces\", see "
@@ -72,7 +93,11 @@ int run_verify(const VerifyArguments& a) {
   const output::Summary summary = output::run_scene(model, run, std::cerr);
   std::cout << "seam checks of scene \"" << model.name << "\" over " << summary.frames.size() << " frames (model size "
             << output::model_size(model) << " m; series in " << a.out_dir << "/summary.json, metrics.interfaces)\n";
-  const int failed = print_table(summary.metrics.interfaces.value_or(std::vector<output::InterfaceReport>{}), std::cout);
+  const Tally seams = print_table(summary.metrics.interfaces.value_or(std::vector<output::InterfaceReport>{}), std::cout);
+  const Tally mesh = print_mesh_row(summary.metrics.mesh, edge_stretch_limit(input), std::cout);
+  const int failed = seams.failed + mesh.failed, checked = seams.checked + mesh.checked;
+  std::cout << (failed ? "FAIL: " + std::to_string(failed) + " of " + std::to_string(checked) + " checks failed\n"
+                       : "PASS: all " + std::to_string(checked) + " checks passed\n");
   return core::to_int(failed ? core::ExitCode::verify_failed : core::ExitCode::ok);
 }
 
@@ -84,7 +109,7 @@ Command add_verify_command(CLI::App& app) {
   verify->require_subcommand(1);
   auto* coupling = verify->add_subcommand(
       "coupling", "Run a scene with patch interfaces like `run`, then print a pass/fail table of every "
-                  "interface's seam gap, normal angle and seam stress ratio against the limits in the scene "
+                  "interface's seam gap, normal angle and seam stress ratio, and the render mesh's peak edge stretch, against the limits in the scene "
                   "(exit 0 all pass, 4 a check failed).");
   coupling->add_option("scene", args->scene_path, "Scene file (JSON) with \"interfaces\"")->required();
   coupling->add_option("--out,-o", args->out_dir, "Output directory")->capture_default_str();
