@@ -4,8 +4,10 @@
 #include <memory>
 #include <string>
 
+#include "apps/shellfrac/budget.hpp"
 #include "apps/shellfrac/command.hpp"
 #include "core/exit_code.hpp"
+#include "output/interrupt.hpp"
 #include "output/progress.hpp"
 #include "output/run.hpp"
 #include "output/scene_description.hpp"
@@ -22,6 +24,7 @@ struct VerifyArguments {
   std::string scene_path;
   std::string out_dir = "out";
   int threads = 0;
+  BudgetArguments budget;
 };
 
 std::string number(const std::optional<double>& v) {
@@ -80,6 +83,8 @@ Tally print_mesh_row(const output::MeshReport& mesh, const std::optional<double>
 
 int run_verify(const VerifyArguments& a) {
   const scene::Scene input = scene::load_scene(a.scene_path);
+  // Refused before anything big is allocated, as `run` does.
+  scene::check_budget(scene::estimate_resources(input), make_budget(a.budget, a.out_dir), input.source);
   const scene::Model model = scene::build(input);
   if (output::scene_seams(model).empty())
     throw scene::SceneError(model.source, "/interfaces",
@@ -90,7 +95,13 @@ int run_verify(const VerifyArguments& a) {
   run.threads = a.threads;
   run.interactive = output::Progress::stderr_is_terminal();
   std::cerr << "verify coupling: running " << output::describe_scene(model);
+  const output::InterruptHandlers handlers;
   const output::Summary summary = output::run_scene(model, run, std::cerr);
+  if (summary.status == "interrupted") {
+    const int signal = output::interrupt_signal();
+    std::cerr << "verify coupling: interrupted at t = " << summary.simulated_seconds << " s; nothing verified\n";
+    return 128 + (signal ? signal : 2);
+  }
   std::cout << "seam checks of scene \"" << model.name << "\" over " << summary.frames.size() << " frames (model size "
             << output::model_size(model) << " m; series in " << a.out_dir << "/summary.json, metrics.interfaces)\n";
   const Tally seams = print_table(summary.metrics.interfaces.value_or(std::vector<output::InterfaceReport>{}), std::cout);
@@ -116,6 +127,7 @@ Command add_verify_command(CLI::App& app) {
   coupling->add_option("--threads,-j", args->threads, "Worker threads (0: all cores)")
       ->check(CLI::Range(0, 4096))
       ->capture_default_str();
+  add_budget_options(coupling, args->budget, true);
   return [args, coupling]() -> std::optional<int> {
     if (!coupling->parsed()) return std::nullopt;
     return run_guarded([&] { return run_verify(*args); });
