@@ -92,10 +92,15 @@ struct SolidBody {
   Eigen::Vector3d initial_velocity = Eigen::Vector3d::Zero();
 };
 
+// FLIP share of grid.transfer "flip"/"aflip" when no flip_ratio is given (docs/shell-model.md).
+inline constexpr double kDefaultFlipRatio = 0.99;
+
 // Background grid and transfer scheme.
 struct GridSettings {
   std::optional<double> dx;  // node spacing [m]; unset: the smallest shell cell size
   bool apic = false;         // PIC (the thesis's choice) or APIC
+  // FLIP share of the g2p velocity update, on every particle set (mpm/particle_set.hpp): 0 = plain PIC/APIC.
+  double flip = 0.0;
 };
 
 struct ColliderSpec {
