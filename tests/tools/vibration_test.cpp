@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "scene/build.hpp"
+#include "scene/scene_error.hpp"
 #include "sim/simulation.hpp"
 #include "tools/vibration.hpp"
 
@@ -26,6 +27,35 @@ TEST(Vibration, DecayOfASampledDampedCosineIsMeasured) {
   EXPECT_EQ(r.extrema, 11);
   EXPECT_NEAR(r.damping_ratio, zeta, 1e-4);  // parabolic extremum fit at 1000 samples per period
   EXPECT_NEAR(r.period, 2 * 3.14159265358979323846 / omega_d, 1e-5);
+}
+
+TEST(Vibration, AffineFlipConservesLinearMomentumInFreeFlight) {
+  // The FLIP part of g2p sums to zero over all particles (tools/vibration.hpp, docs/shell-model.md):
+  // a stretched, bent, spinning sheet keeps its momentum to round-off, as under PIC.
+  sim::Simulation sim(scene::build_model(R"({"name": "t", "gravity": [0, 0, 0], "grid": {"transfer": "aflip"},
+    "shells": [{"name": "sheet", "patch": {"type": "flat", "size": [0.5, 0.4], "cells": [10, 8]},
+                "thickness": 0.001, "material": {"E": 1e5, "nu": 0.3, "density": 200}}]})", "t.json"));
+  const auto x = sim.positions(0), v = sim.velocities(0);
+  for (size_t k = 0; k < x.size(); ++k) {
+    x[k] = Eigen::Vector3d(1.1 * x[k].x(), 0.95 * x[k].y(), 0.05 * std::sin(6 * x[k].x()));
+    v[k] = Eigen::Vector3d(0.3, -0.2, 0.1) + Eigen::Vector3d(0, 0, 2.0).cross(x[k]);
+  }
+  const Eigen::Vector3d before = sim.linear_momentum();
+  for (int s = 0; s < 60; ++s) sim.step(0.5 * sim.stable_dt());
+  const double mass = 200 * 0.001 * 0.5 * 0.4;
+  EXPECT_GT(before.norm(), 1e-3);
+  EXPECT_LE((sim.linear_momentum() - before).norm(), 1e-12 * mass);
+}
+
+TEST(Vibration, FlipRatioWithoutAFlipTransferIsRefused) {
+  try {
+    scene::build_model(R"({"grid": {"transfer": "pic", "flip_ratio": 0.5},
+      "shells": [{"patch": {"type": "flat", "size": [1, 1], "cells": [2, 2]}, "thickness": 0.01,
+                  "material": {"E": 1e5, "nu": 0.3, "density": 100}}]})", "bad.json");
+    FAIL() << "accepted";
+  } catch (const scene::SceneError& e) {
+    EXPECT_EQ(e.json_path(), "/grid/flip_ratio");
+  }
 }
 
 TEST(Vibration, SimplySupportedPlateKeepsItsFirstMode) {
