@@ -24,6 +24,10 @@ struct ParticleSet {
   Mat3* affine = nullptr;
   // Grid velocity gradient sum_i v_i grad w_ip^T at the particle, written in g2p when non-null.
   Mat3* velocity_gradient = nullptr;
+  // FLIP share in [0, 1] of the velocity update in g2p: v_p <- v_PIC + flip (v_p - sum_i w_ip v_i^old),
+  // i.e. the particle keeps this share of its own velocity and adds the grid's velocity change
+  // (Brackbill's FLIP blended with PIC; with affine set, the affine-FLIP of Fei et al. 2021). 0 = PIC/APIC.
+  double flip = 0.0;
 };
 
 }  // namespace shellfrac::mpm

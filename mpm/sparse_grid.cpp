@@ -307,20 +307,27 @@ void SparseGrid::transfer_to_particles(const std::vector<ParticleSet>& sets) con
         const uint32_t p = entries_[e].index;
         const Vec3& xp = s.position[p];
         const StencilWeights sw = stencil_weights(xp, inv_dx_);
-        Vec3 v = Vec3::Zero();
+        Vec3 v = Vec3::Zero(), v_old = Vec3::Zero();
         Mat3 C = Mat3::Zero(), grad = Mat3::Zero();
         const uint32_t si = entries_[e].set;
+        const bool flip = s.flip > 0;
         for_stencil(static_cast<uint32_t>(b), sw, [&](size_t grid_node, int i, int j, int k) {
-          const Vec3& vi = velocity_[target(si, p, grid_node, i, j, k)];
+          const size_t node = target(si, p, grid_node, i, j, k);
+          const Vec3& vi = velocity_[node];
           const double w = sw.weight(i, j, k);
           v += w * vi;
+          // The node's velocity before this step's forces, colliders and contact: its p2g momentum / mass.
+          if (flip && mass_[node] > 0) v_old += (w / mass_[node]) * momentum_[node];
           if (s.affine) {
             const Vec3 xi(sw.ax[0].base + i, sw.ax[1].base + j, sw.ax[2].base + k);
             C += (w * inv_d) * vi * (xi * dx_ - xp).transpose();
           }
           if (s.velocity_gradient) grad += vi * sw.gradient(i, j, k).transpose();
         });
-        s.velocity[p] = v;
+        // Summed over all particles (every set with the same share), the FLIP part
+        // m_p (v_p - sum_i w_ip v_i^old) cancels against the p2g momentum sum_i m_i v_i^old, so linear
+        // momentum is exactly that of the PIC update.
+        s.velocity[p] = flip ? Vec3(v + s.flip * (s.velocity[p] - v_old)) : v;
         if (s.affine) s.affine[p] = C;
         if (s.velocity_gradient) s.velocity_gradient[p] = grad;
       }

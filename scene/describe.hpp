@@ -447,7 +447,13 @@ void describe(V& v, Output& o) {
 template <class V>
 void describe(V& v, Grid& g) {
   v.number("dx", g.dx, Range::positive());
-  v.choice("transfer", g.transfer, {"pic", "apic"});
+  v.choice("transfer", g.transfer, {"pic", "apic", "flip", "aflip"});
+  v.number("flip_ratio", g.flip_ratio, Range::closed(0.0, 1.0));
+  v.check("flip_ratio", [&] {
+    return g.flip_ratio && g.transfer && (*g.transfer == "pic" || *g.transfer == "apic")
+               ? "\"flip_ratio\" needs \"transfer\": \"flip\" or \"aflip\""
+               : "";
+  });
 }
 
 template <class V>

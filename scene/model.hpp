@@ -110,10 +110,15 @@ struct BrittleBody {
   double sliver_volume = 0;       // fragments smaller than this are slivers, not counted (docs/brittle.md)
 };
 
+// FLIP share of grid.transfer "flip"/"aflip" when no flip_ratio is given (docs/shell-model.md).
+inline constexpr double kDefaultFlipRatio = 0.99;
+
 // Background grid and transfer scheme.
 struct GridSettings {
   std::optional<double> dx;  // node spacing [m]; unset: the smallest shell cell size
   bool apic = false;         // PIC (the thesis's choice) or APIC
+  // FLIP share of the g2p velocity update, on every particle set (mpm/particle_set.hpp): 0 = plain PIC/APIC.
+  double flip = 0.0;
 };
 
 struct ColliderSpec {

@@ -258,7 +258,8 @@ struct Output {
 
 struct Grid {
   Opt<double> dx;
-  Opt<std::string> transfer;  // "pic", "apic"
+  Opt<std::string> transfer;  // "pic", "apic", "flip", "aflip"
+  Opt<double> flip_ratio;     // FLIP share of "flip"/"aflip", in [0, 1]
 };
 
 struct Cracks {

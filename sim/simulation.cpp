@@ -213,6 +213,10 @@ void Simulation::stage_grid_update(double dt) {
 }
 
 void Simulation::stage_g2p(double dt) {
+  // FLIP keeps the particles' own share of the velocity, which the grid's damping never sees: damp that
+  // share at the same rate (one factor for all sets keeps momentum exact).
+  const double flip = model_.grid.flip * (model_.damping > 0 ? std::exp(-model_.damping * dt) : 1.0);
+  for (mpm::ParticleSet& s : world_.particle_sets()) s.flip = flip;
   grid_.transfer_to_particles(world_.particle_sets());
   seams_.save_start_positions(world_);
   for (size_t i = 0; i < world_.num_shells(); ++i) {

@@ -74,6 +74,7 @@ World::World(const scene::Model& model) {
     control.mass = transfer_mass_[i].data();
     control.force = p.force.data();
     control.affine = affine_[i].empty() ? nullptr : affine_[i].data();
+    control.flip = model.grid.flip;
     control_set_.push_back(sets_.size());
     layout_.push_back({SetKind::ControlPoints, i});
     sets_.push_back(control);
@@ -84,6 +85,7 @@ World::World(const scene::Model& model) {
     shear.mass = p.shear.mass.data();
     shear.stress = p.shear.stress.data();
     shear.velocity_gradient = p.shear.velocity_gradient.data();
+    shear.flip = model.grid.flip;
     shear_set_.push_back(sets_.size());
     layout_.push_back({SetKind::ShearParticles, i});
     sets_.push_back(shear);
@@ -91,6 +93,7 @@ World::World(const scene::Model& model) {
   for (size_t k = 0; k < solids_.size(); ++k) {
     layout_.push_back({SetKind::SolidParticles, k});
     sets_.push_back(solids_[k].view());
+    sets_.back().flip = model.grid.flip;  // one share for all sets keeps momentum exact (sparse_grid.cpp)
   }
 }
 

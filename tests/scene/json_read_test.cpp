@@ -140,10 +140,10 @@ TEST(SceneValues, RefusedLikeTheFile) {
   EXPECT_EQ(refusal(s).json_path(), "/shells/0/patch/cells/0");
 
   s = sheet_in_code();
-  s.grid.transfer = "flip";
+  s.grid.transfer = "polypic";  // "flip" is a transfer since issue 15
   e = refusal(s);
   EXPECT_EQ(e.json_path(), "/grid/transfer");
-  EXPECT_EQ(e.message(), "unknown value \"flip\": allowed are \"pic\", \"apic\"");
+  EXPECT_EQ(e.message(), "unknown value \"polypic\": allowed are \"pic\", \"apic\", \"flip\", \"aflip\"");
 
   s = sheet_in_code();
   Pin pin;

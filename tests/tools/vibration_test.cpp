@@ -1,0 +1,155 @@
+// The transfer's numerical damping (issue 15): free vibration of a simply supported plate against
+// Kirchhoff plate theory, a swinging sheet against the pin reaction and its own amplitude, and a
+// free-floating bent sheet against energy conservation.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "scene/build.hpp"
+#include "scene/scene_error.hpp"
+#include "sim/simulation.hpp"
+#include "tools/vibration.hpp"
+
+namespace shellfrac::tools {
+namespace {
+
+TEST(Vibration, DecayOfASampledDampedCosineIsMeasured) {
+  // w = exp(-zeta omega t) cos(omega_d t): the log decrement gives zeta back, the extrema omega_d.
+  VibrationResult r;
+  const double omega = 2 * 3.14159265358979323846, zeta = 0.05, omega_d = omega * std::sqrt(1 - zeta * zeta);
+  for (int k = 0; k <= 6000; ++k) {
+    const double t = k * 1e-3;
+    r.time.push_back(t);
+    r.deflection.push_back(std::exp(-zeta * omega * t) * std::sin(omega_d * t));
+  }
+  measure_decay(r, 5);
+  EXPECT_EQ(r.extrema, 11);
+  EXPECT_NEAR(r.damping_ratio, zeta, 1e-4);  // parabolic extremum fit at 1000 samples per period
+  EXPECT_NEAR(r.period, 2 * 3.14159265358979323846 / omega_d, 1e-5);
+}
+
+TEST(Vibration, AffineFlipConservesLinearMomentumInFreeFlight) {
+  // The FLIP part of g2p sums to zero over all particles (tools/vibration.hpp, docs/shell-model.md):
+  // a stretched, bent, spinning sheet keeps its momentum to round-off, as under PIC.
+  sim::Simulation sim(scene::build_model(R"({"name": "t", "gravity": [0, 0, 0], "grid": {"transfer": "aflip"},
+    "shells": [{"name": "sheet", "patch": {"type": "flat", "size": [0.5, 0.4], "cells": [10, 8]},
+                "thickness": 0.001, "material": {"E": 1e5, "nu": 0.3, "density": 200}}]})", "t.json"));
+  const auto x = sim.positions(0), v = sim.velocities(0);
+  for (size_t k = 0; k < x.size(); ++k) {
+    x[k] = Eigen::Vector3d(1.1 * x[k].x(), 0.95 * x[k].y(), 0.05 * std::sin(6 * x[k].x()));
+    v[k] = Eigen::Vector3d(0.3, -0.2, 0.1) + Eigen::Vector3d(0, 0, 2.0).cross(x[k]);
+  }
+  const Eigen::Vector3d before = sim.linear_momentum();
+  for (int s = 0; s < 60; ++s) sim.step(0.5 * sim.stable_dt());
+  const double mass = 200 * 0.001 * 0.5 * 0.4;
+  EXPECT_GT(before.norm(), 1e-3);
+  EXPECT_LE((sim.linear_momentum() - before).norm(), 1e-12 * mass);
+}
+
+TEST(Vibration, FlipRatioWithoutAFlipTransferIsRefused) {
+  try {
+    scene::build_model(R"({"grid": {"transfer": "pic", "flip_ratio": 0.5},
+      "shells": [{"patch": {"type": "flat", "size": [1, 1], "cells": [2, 2]}, "thickness": 0.01,
+                  "material": {"E": 1e5, "nu": 0.3, "density": 100}}]})", "bad.json");
+    FAIL() << "accepted";
+  } catch (const scene::SceneError& e) {
+    EXPECT_EQ(e.json_path(), "/grid/flip_ratio");
+  }
+}
+
+TEST(Vibration, SimplySupportedPlateKeepsItsFirstMode) {
+  // a/t = 100, 16 x 16 cells, cfl 1, "aflip" at its default FLIP share 0.99: issue 15 asks zeta <= 0.02
+  // over 5 periods and the period within 2% of 2 pi / omega_11 (measured: zeta 0.0147, period +1.5%).
+  PlateVibrationCase c;
+  c.thickness = c.side / 100;
+  c.cells = 16;
+  c.transfer.transfer = "aflip";
+  const VibrationResult v = simply_supported_plate(c);
+  std::printf("aflip: zeta = %.5f, period / reference = %.5f, %d extrema, %ld steps\n", v.damping_ratio,
+              v.period / v.reference_period, v.extrema, v.steps);
+  EXPECT_EQ(v.extrema, 11);  // 5 whole periods measured
+  EXPECT_LE(v.damping_ratio, 0.02);
+  EXPECT_NEAR(v.period, v.reference_period, 0.02 * v.reference_period);
+  // PIC (the default) beside it, over one reference period: the thin plate does not swing back at all.
+  c.transfer.transfer = "pic";
+  c.periods = 1;
+  const VibrationResult pic = simply_supported_plate(c);
+  std::printf("pic: zeta = %.5f (1 = over-damped, no oscillation), %d extrema\n", pic.damping_ratio, pic.extrema);
+  EXPECT_GT(pic.damping_ratio, 0.5);  // far from the new transfer's: the reason for it
+}
+
+TEST(Vibration, FreeFloatingBentSheetKeepsItsEnergy) {
+  // No gravity, no pins: kinetic + elastic energy must stay constant; issue 15 asks 2% over 2 s. Pure
+  // affine-FLIP (flip_ratio 1) at 32 x 8 cells: measured 0.75%. The drift is the lumped kinetic energy's
+  // discretisation error, not a loss (16 x 4 cells: 2.9%, oscillating, back to +2.4% after 2 s); any
+  // PIC share loses energy steadily (flip_ratio 0.99 at 16 x 4: half of it in 2 s).
+  FreeSheetCase c;
+  c.cells_u = 32;
+  c.cells_v = 8;
+  c.transfer.transfer = "aflip";
+  c.transfer.flip = 1.0;
+  const EnergyHistory h = free_bent_sheet(c);
+  // The energy did move between kinetic and elastic (the sheet bent).
+  double min_kinetic = h.kinetic[0];
+  for (double k : h.kinetic) min_kinetic = std::min(min_kinetic, k);
+  EXPECT_LT(min_kinetic, 0.2 * h.kinetic[0]);
+  std::printf("aflip 1: energy drift %.5f over %.1f s (%ld steps)\n", h.max_relative_drift(), c.end, h.steps);
+  EXPECT_LE(h.max_relative_drift(), 0.02);
+  // PIC over the first second: most of the energy is gone.
+  c.transfer = {"pic", -1};
+  c.end = 1.0;
+  const EnergyHistory pic = free_bent_sheet(c, 50);
+  const double left = pic.total(pic.time.size() - 1) / pic.total(0);
+  std::printf("pic: energy left after %.1f s: %.4f of the start\n", c.end, left);
+  EXPECT_LT(left, 0.5);
+}
+
+TEST(Vibration, PendulumSheetKeepsSwingingAndObeysThePinReaction) {
+  // A 0.1 m x 0.2 m plate (L/t = 10, bending stiffness D / L about 3x its weight moment) hinged at its top
+  // edge (first control-point row pinned, slopes free) and let go at rest 30 degrees from the vertical
+  // under gravity -z; the patch is built in that position, so it starts unstrained. Linear momentum
+  // changes only by the pin reaction and the weight of the free particles: dp = dt (R + M_free g) in
+  // every step (a discrete identity of the transfers, to round-off). After 3 swings (periods) the
+  // amplitude is at least 90% of the start (issue 15).
+  const double L = 0.2, g = 9.81;
+  sim::Simulation sim(scene::build_model(R"({"name": "pendulum", "gravity": [0, 0, -9.81], "time": {"cfl": 1.0},
+    "grid": {"transfer": "aflip", "flip_ratio": 1},
+    "shells": [{"name": "sheet", "patch": {"type": "flat", "size": [0.1, 0.2], "cells": [4, 8],
+                "origin": [0, 0, 0], "axis_u": [1, 0, 0], "axis_v": [0, 0.5, -0.8660254037844386]},
+                "thickness": 0.02, "material": {"E": 4e6, "nu": 0.3, "density": 500}}],
+    "pins": [{"shell": "sheet", "control_points": [[0,0],[1,0],[2,0],[3,0],[4,0],[5,0]]}]})",
+                                         "pendulum.json"));
+  const auto& world = sim.world();
+  double free_mass = 0;
+  for (double m : world.transfer_mass(0)) free_mass += m;
+  for (double m : world.shell(0).shear.mass) free_mass += m;
+  Eigen::Vector3d p = sim.linear_momentum();
+  double worst = 0, scale = 0;
+  std::vector<double> tip;
+  const double start = world.shell(0).current_surface().point(0.5, 1.0).y();
+  const double dt = sim.stable_dt();
+  const double end = 3.4 * 2 * 3.14159265358979323846 * std::sqrt(2 * L / (3 * g));  // rigid-plate periods
+  while (sim.time() < end) {
+    sim.step(dt);
+    const Eigen::Vector3d p_new = sim.linear_momentum();
+    const Eigen::Vector3d expected = dt * (sim.pin_reaction(0) + free_mass * Eigen::Vector3d(0, 0, -g));
+    worst = std::max(worst, (p_new - p - expected).norm());
+    scale = std::max(scale, expected.norm());
+    p = p_new;
+    tip.push_back(world.shell(0).current_surface().point(0.5, 1.0).y());
+  }
+  std::printf("momentum residual %.3e of the largest step change %.3e\n", worst, scale);
+  EXPECT_LE(worst, 1e-10 * scale);
+  // Swing amplitudes: extrema of the free edge's horizontal position; the 6th is the end of swing 3.
+  std::vector<double> amplitude;
+  for (size_t k = 1; k + 1 < tip.size(); ++k)
+    if ((tip[k] > tip[k - 1] && tip[k] >= tip[k + 1]) || (tip[k] < tip[k - 1] && tip[k] <= tip[k + 1]))
+      amplitude.push_back(std::abs(tip[k]));
+  ASSERT_GE(amplitude.size(), 6u);
+  std::printf("tip amplitude: start %.5f, after 3 swings %.5f (ratio %.4f)\n", start, amplitude[5], amplitude[5] / start);
+  EXPECT_GE(amplitude[5], 0.9 * start);
+}
+
+}  // namespace
+}  // namespace shellfrac::tools

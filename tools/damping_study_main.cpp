@@ -1,0 +1,128 @@
+// shellfrac_damping_study: the transfer's numerical damping against cell size / thickness (issue 15).
+// Runs the simply supported plate of tools/vibration.hpp for each transfer, a/t and resolution, writes
+// damping.csv and the chart damping-ratio.png (gnuplot) into the output folder.
+//   shellfrac_damping_study [--out DIR] [--cells 8,16,32] [--ratios 20,100] [--transfers pic,apic,aflip]
+// A transfer may carry its FLIP share ("aflip:1"). Two single measurements print instead of charting:
+//   --free-sheet aflip:1@0.5#0.002%32   energy history of the free bent sheet (share, cfl, amplitude, cells)
+//   --tear aflip:0.99                   whether the sweeps' 16-cell mode-I tear completes with this transfer
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "sim/simulation.hpp"
+#include "tools/bench_scenes.hpp"
+#include "tools/charts.hpp"
+#include "tools/vibration.hpp"
+
+namespace {
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');) out.push_back(item);
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace shellfrac::tools;
+  std::filesystem::path out = "docs/benchmarks";
+  std::vector<std::string> cells = {"8", "16", "32"}, ratios = {"20", "100"}, transfers = {"pic", "apic", "aflip"};
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string key = argv[i], value = argv[i + 1];
+    if (key == "--free-sheet") {  // energy history of the free bent sheet with this transfer
+      FreeSheetCase c;  // "aflip:1@0.5#0.002": transfer, FLIP share, cfl, amplitude [m]
+      if (value.find('@') != std::string::npos) c.cfl = std::stod(value.substr(value.find('@') + 1));
+      if (value.find('#') != std::string::npos) c.amplitude = std::stod(value.substr(value.find('#') + 1));
+      if (value.find('%') != std::string::npos) {
+        c.cells_u = std::stoi(value.substr(value.find('%') + 1));
+        c.cells_v = c.cells_u / 4;
+      }
+      c.transfer.transfer = value.substr(0, value.find_first_of(":@"));
+      if (value.find(':') != std::string::npos) c.transfer.flip = std::stod(value.substr(value.find(':') + 1));
+      const EnergyHistory h = free_bent_sheet(c, 40);
+      for (size_t k = 0; k < h.time.size(); ++k)
+        std::cout << h.time[k] << " kinetic " << h.kinetic[k] << " consistent " << h.consistent_kinetic[k]
+                  << " elastic " << h.elastic[k] << " total " << h.total(k) << " consistent total " << h.consistent_total(k)
+                  << "\n";
+      return 0;
+    }
+    if (key == "--tear") {  // stability: the mode-I tear of the sweeps at 16 cells with this transfer
+      shellfrac::scene::Scene scene = bench_scenes::mode_one_tear(Discretisation{16, 4, 3, 0.5, false});
+      scene.grid.transfer = value.substr(0, value.find(':'));
+      if (value.find(':') != std::string::npos) scene.grid.flip_ratio = std::stod(value.substr(value.find(':') + 1));
+      try {
+        shellfrac::sim::Simulation sim(scene);
+        const double end = scene.time.end.value_or(1.0);
+        for (int f = 1; f <= 40; ++f) sim.advance_to(end * f / 40);
+        std::cout << value << ": tear completed, " << sim.steps() << " steps\n";
+      } catch (const std::exception& e) {
+        std::cout << value << ": " << e.what() << "\n";
+      }
+      return 0;
+    }
+    if (key == "--out") out = value;
+    else if (key == "--cells") cells = split(value);
+    else if (key == "--ratios") ratios = split(value);
+    else if (key == "--transfers") transfers = split(value);
+    else {
+      std::cerr << "unknown option " << key << "\n";
+      return 2;
+    }
+  }
+  std::filesystem::create_directories(out);
+  charts::CsvTable table{{"transfer", "flip_ratio", "a_over_t", "cells", "h_over_t", "damping_ratio", "period",
+                          "reference_period", "period_error", "extrema", "steps"}, {}};
+  std::vector<charts::Series> series;
+  for (const std::string& name : transfers) {
+    // "aflip:0.95" selects a FLIP share.
+    TransferChoice t;
+    t.transfer = name.substr(0, name.find(':'));
+    if (name.find(':') != std::string::npos) t.flip = std::stod(name.substr(name.find(':') + 1));
+    for (const std::string& r : ratios) {
+      charts::Series s{name + ", a/t = " + r, {}, {}};
+      for (const std::string& n : cells) {
+        PlateVibrationCase c;
+        c.thickness = c.side / std::stod(r);
+        c.cells = std::stoi(n);
+        c.transfer = t;
+        const VibrationResult v = simply_supported_plate(c);
+        const double h_over_t = c.side / c.cells / c.thickness;
+        const double period_error = v.period > 0 ? v.period / v.reference_period - 1 : 0.0;
+        table.add({name, charts::number(t.flip), r, n, charts::number(h_over_t), charts::number(v.damping_ratio),
+                   charts::number(v.period), charts::number(v.reference_period), charts::number(period_error),
+                   std::to_string(v.extrema), std::to_string(v.steps)});
+        std::cout << name << " a/t=" << r << " cells=" << n << " h/t=" << h_over_t << " zeta=" << v.damping_ratio
+                  << " period error=" << period_error << " extrema=" << v.extrema << " steps=" << v.steps << std::endl;
+        s.x.push_back(h_over_t);
+        s.y.push_back(std::max(v.damping_ratio, 1e-5));
+      }
+      series.push_back(s);
+    }
+  }
+  charts::write_csv(out / "damping.csv", table);
+  std::ostringstream gp;
+  gp << "set title 'Simply supported plate, first mode: numerical damping ratio of the transfer (cfl 1)'\n"
+     << "set logscale xy\nset grid\nset key outside right top\n"
+     << "set xlabel 'cell size / thickness'\nset ylabel 'damping ratio zeta (1 = no oscillation; below 1e-5 drawn at 1e-5)'\n"
+     << "set yrange [5e-6:2]\nplot ";
+  for (size_t i = 0; i < series.size(); ++i)
+    gp << (i ? ", " : "") << "'-' using 1:2 with linespoints lw 2 pt " << 5 + static_cast<int>(i) << " title '"
+       << series[i].title << "'";
+  gp << "\n";
+  for (const charts::Series& s : series) {
+    for (size_t k = 0; k < s.x.size(); ++k) gp << s.x[k] << " " << s.y[k] << "\n";
+    gp << "e\n";
+  }
+  try {
+    charts::render_png(out / "damping-ratio.png", gp.str());
+  } catch (const charts::ChartError& e) {
+    std::cerr << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
