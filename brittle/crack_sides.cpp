@@ -1,4 +1,5 @@
 #include "brittle/crack_sides.hpp"
+#include "brittle/solid_grid_impl.hpp"
 
 #include <tbb/parallel_for.h>
 

@@ -1,4 +1,5 @@
 #include "brittle/solid_grid.hpp"
+#include "brittle/solid_grid_impl.hpp"
 
 #include <tbb/parallel_reduce.h>
 

@@ -90,7 +90,7 @@ class SolidGrid {
   // Index of the node nearest to x, or -1 outside the box.
   long nearest_node(const GVec3& x) const;
   // Runs fn(particle) over every binned particle, slab colour by colour, slabs of a colour in parallel
-  // (the scatter order). Use for scatters of per-node quantities.
+  // (the scatter order). Use for scatters of per-node quantities. Defined in brittle/solid_grid_impl.hpp.
   template <class Fn>
   void for_particles_coloured(Fn&& fn) const;
 
@@ -107,4 +107,5 @@ class SolidGrid {
 
 }  // namespace shellfrac::brittle
 
-#include "brittle/solid_grid_impl.hpp"
+// The template member is defined in brittle/solid_grid_impl.hpp, included only by the .cpp files that
+// call it: it uses TBB, which the public headers must not pull in.
