@@ -12,35 +12,19 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "tests/cli/cli_process.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 using Json = nlohmann::json;
 
-struct Result {
-  int exit_code;
-  std::string output;
-};
+using shellfrac::test::Result;
 
-Result shellfrac(const std::string& args) {
-  const std::string cmd = std::string(SHELLFRAC_BIN) + " " + args + " 2>&1";
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) return {-1, "popen failed"};
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) out.append(buf, n);
-  const int status = ::pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+Result shellfrac(const std::string& args) { return shellfrac::test::run_shellfrac(args); }
 
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("shellfrac-brittle-" + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path scratch(const std::string& name) { return shellfrac::test::scratch_folder("brittle", name); }
 
 fs::path scene_file(const std::string& name) { return fs::path(SHELLFRAC_SOURCE_DIR) / "scenes" / "brittle" / (name + ".json"); }
 

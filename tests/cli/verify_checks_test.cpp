@@ -10,36 +10,21 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "tests/cli/cli_process.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 using ::testing::ContainsRegex;
 using ::testing::HasSubstr;
 
-struct Result {
-  int exit_code;
-  std::string output;  // stdout and stderr
-};
+using shellfrac::test::Result;
 
 Result verify(const fs::path& scene, const fs::path& out) {
-  const std::string cmd = std::string(SHELLFRAC_BIN) + " verify coupling " + scene.string() + " --out " + out.string() +
-                          " --threads 2 2>&1";
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) return {-1, "popen failed"};
-  std::string text;
-  char buf[4096];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) text.append(buf, n);
-  const int status = ::pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text};
+  return shellfrac::test::run_shellfrac("verify coupling " + scene.string() + " --out " + out.string() + " --threads 2");
 }
 
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("shellfrac-verify-" + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path scratch(const std::string& name) { return shellfrac::test::scratch_folder("verify", name); }
 
 // Two tiny nested patches (4 and 8 cells along the seam) falling for 0.1 s, with `extra` top-level keys.
 std::string tiny(const std::string& extra) {
