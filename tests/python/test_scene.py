@@ -7,14 +7,14 @@ import pytest
 import shellfrac
 from conftest import SCENES
 
-SHIPPED = sorted(SCENES.glob("*.json"))
+SHIPPED = sorted(SCENES.glob("*.json")) + sorted(SCENES.glob("brittle/*.json"))
 
 
 def test_there_are_shipped_scenes():
     assert len(SHIPPED) >= 20
 
 
-@pytest.mark.parametrize("path", SHIPPED, ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", SHIPPED, ids=lambda p: str(p.relative_to(SCENES).with_suffix("")))
 def test_round_trip_of_every_shipped_scene(path):
     with open(path) as f:
         d = json.load(f)
