@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -30,11 +31,19 @@ MeshStats mesh_stats(const TriangleMesh& mesh) {
     s.hi = first ? v : s.hi.cwiseMax(v);
     first = false;
   }
+  // Vertices at the same position are one vertex here: files split a closed surface's vertices along
+  // UV and normal seams (a scanned mesh with texture coordinates), which does not open it.
+  std::vector<int> welded(mesh.vertices.size());
+  std::map<std::array<double, 3>, int> by_position;
+  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const Eigen::Vector3d& v = mesh.vertices[i];
+    welded[i] = by_position.emplace(std::array<double, 3>{v.x(), v.y(), v.z()}, static_cast<int>(i)).first->second;
+  }
   // Each undirected edge counted over the triangles: 2 on a closed manifold surface.
   std::map<std::pair<int, int>, int> uses;
   for (const Eigen::Vector3i& t : mesh.triangles) {
     for (int k = 0; k < 3; ++k) {
-      const int a = t[k], b = t[(k + 1) % 3];
+      const int a = welded[static_cast<size_t>(t[k])], b = welded[static_cast<size_t>(t[(k + 1) % 3])];
       ++uses[{std::min(a, b), std::max(a, b)}];
     }
     const Eigen::Vector3d& p = mesh.vertices[static_cast<size_t>(t[0])];
@@ -82,7 +91,7 @@ TriangleMesh import_mesh(const std::string& path, double scale, const Eigen::Vec
     throw std::runtime_error("mesh has " + std::to_string(s.non_finite_vertices) + " vertices with NaN or infinite coordinates");
   if (s.boundary_edges > 0)
     throw std::runtime_error("mesh is not closed: " + std::to_string(s.boundary_edges) +
-                             " edge(s) belong to one triangle only; a level set needs a closed surface (a watertight mesh)");
+                             " boundary edge(s), edges of one triangle only; a level set needs a closed surface (a watertight mesh)");
   const double extent = (s.hi - s.lo).maxCoeff();
   if (!(std::abs(s.volume) > 1e-12 * extent * extent * extent))
     throw std::runtime_error("mesh encloses no volume (" + std::to_string(s.volume) + " m^3): a level set needs a solid");

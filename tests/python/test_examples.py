@@ -47,8 +47,10 @@ def test_sweep(tmp_path):
     assert all(r["status"] == "completed" for r in rows)
     pieces = [r["pieces"] for r in rows]
     lengths = [r["crack_length"] for r in rows]
-    # The same pull tears the weakest sheet in two and leaves the strongest in one piece (measured: 2, -, 1).
-    assert pieces[0] == 2 and pieces[-1] == 1
+    # The same pull tears the weakest sheet in two. (With G_f fixed, a higher sigma_f is also a more brittle
+    # sheet, H = sigma_f^2 / (2 E G_f): since the crack graph closes (issue 12) the strongest variant's
+    # damage band separates it too, measured 2, 2, 2; before, a strand of damaged material kept it in one.)
+    assert pieces[0] == 2
     assert all(length > 0 for length in lengths)  # every variant cracks from the notch
 
 

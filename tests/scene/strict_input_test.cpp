@@ -172,7 +172,7 @@ TEST(MeshImport, OpenNonFiniteAndFlatMeshesAreRefusedByName) {
   const SceneError open = mesh_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   EXPECT_EQ(open.json_path(), "/solids/0/file");
   EXPECT_THAT(open.message(), HasSubstr("m.obj"));
-  EXPECT_THAT(open.message(), HasSubstr("not closed: 3 edge(s)"));
+  EXPECT_THAT(open.message(), HasSubstr("not closed: 3 boundary edge(s)"));
   std::string nan = kTetrahedron;
   nan.replace(nan.find("v 0 0 1"), 7, "v 0 0 nan");
   EXPECT_THAT(mesh_error(nan).message(), HasSubstr("NaN or infinite"));
@@ -190,6 +190,19 @@ TEST(MeshImport, StatsOfATetrahedron) {
   EXPECT_NEAR(s.volume, 1.0 / 6.0, 1e-15);  // outward winding: positive
   EXPECT_NEAR(s.area, 1.5 + std::sqrt(3.0) / 2.0, 1e-14);
   EXPECT_EQ(s.hi, Eigen::Vector3d(1, 1, 1));
+}
+
+TEST(MeshImport, VerticesSplitAlongAUvSeamDoNotOpenTheSurface) {
+  // The tetrahedron with its last face on copies of its vertices (as a file with texture coordinates
+  // stores a UV seam): still closed. Moving one copy by 1e-9 opens it: the moved face's two edges to
+  // that copy, and the two edges the other faces had to the original (4 boundary edges).
+  TriangleMesh m;
+  m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  m.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {4, 5, 6}};
+  EXPECT_EQ(mesh_stats(m).boundary_edges, 0u);
+  EXPECT_NEAR(mesh_stats(m).volume, 1.0 / 6.0, 1e-15);
+  m.vertices[6] = {0, 0, 1 + 1e-9};
+  EXPECT_EQ(mesh_stats(m).boundary_edges, 4u);
 }
 
 }  // namespace
