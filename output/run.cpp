@@ -190,7 +190,7 @@ Summary make_summary(const sim::Simulation& sim, const FrameWriter& frames, int 
     s.dt = sim.max_dt();
     s.dt_min = sim.min_dt();
   }
-  s.stable_dt_bound = model.time.cfl * sim.elastic_wave_bound();
+  s.stable_dt_bound = model.time.cfl * sim.current_elastic_wave_bound();
   s.grid_dx = sim.dx();
   s.simulated_seconds = sim.time();
   s.frames = frames.files();

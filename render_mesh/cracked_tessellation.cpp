@@ -58,6 +58,13 @@ struct DisjointSets {
   void unite(int a, int b) { parent[static_cast<size_t>(find(a))] = find(b); }
 };
 
+// Merge and snap distance, as a fraction of the smaller quad side. Crack graph vertices carry the
+// round-off of the Voronoi medial axis (about 2e-9 in parameter units): with 1e-9 of a quad side
+// (1.6e-11 at 64 quads) a crack through a grid vertex or along a grid line missed it and left faces
+// 1e-9 wide in the exported mesh. 1e-6 of a quad side takes those in and stays far below the shadow
+// offset Dv (1e-5 in parameter units, 6e-4 of a quad at 64 quads), which must separate the sides.
+constexpr double kMergeFraction = 1e-6;
+
 // The render grid and every vertex of the split mesh. Points closer than `tolerance` are one vertex,
 // and points that close to a grid line are put exactly on it, so that the two quads beside an edge
 // see the same vertices on it (no T-junctions).
@@ -70,7 +77,7 @@ class VertexRegistry {
     for (int j = 0; j <= S_; ++j) vs_.push_back(d.v0 + static_cast<double>(j) / S_ * (d.v1 - d.v0));
     du_ = (d.u1 - d.u0) / R_;
     dv_ = (d.v1 - d.v0) / S_;
-    tolerance_ = 1e-9 * std::min(du_, dv_);
+    tolerance_ = kMergeFraction * std::min(du_, dv_);
     for (int j = 0; j <= S_; ++j)
       for (int i = 0; i <= R_; ++i) push(Vec2(us_[static_cast<size_t>(i)], vs_[static_cast<size_t>(j)]), i, j);
   }

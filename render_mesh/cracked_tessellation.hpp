@@ -59,7 +59,7 @@ struct ParameterMesh {
 // vertices numbered i + (R+1) j, R*S quads in row-major order. With a crack, grid vertices keep
 // those numbers, the extra vertices (crack points, edge intersections) follow, and every cracked quad
 // is replaced by its polygons in place. Crack pieces outside the rectangle, shorter than the merge
-// tolerance (1e-9 of a quad side) or lying on the patch boundary are ignored.
+// tolerance (1e-6 of a quad side) or lying on the patch boundary are ignored.
 // Throws std::invalid_argument for a resolution below 1 or an empty/inverted domain.
 ParameterMesh split_parameter_grid(const ParameterDomain& domain, const std::vector<CrackSegment2>& crack,
                                    const CrackedTessellationSettings& settings);

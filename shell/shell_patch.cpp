@@ -43,6 +43,7 @@ ShellPatch::ShellPatch(const nurbs::NurbsSurface& reference, const ShellMaterial
     failure_stress_.assign(param_.size(), material_.fracture.failure_stress);
     brittleness_.assign(param_.size(), material_.brittleness);
   }
+  reference_stiffness_ = basis_stiffness_ = compute_basis_stiffness();
 }
 
 nurbs::NurbsSurface ShellPatch::current_surface() const {

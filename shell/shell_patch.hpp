@@ -228,6 +228,22 @@ class ShellPatch {
   // r_33 of the QR decomposition of cell c's Type III F = [a_1 a_2 d_3] D^-1 (the director's normal stretch).
   double director_stretch(size_t c) const;
 
+  // How stiff the current bases make the explicit step. For every control point i, a Gershgorin row sum of
+  // the basis-gradient products over the points q that use it, divided by its mass:
+  //   membrane  max_i sum_q V_q a_iq (sum_j a_jq) / m_i,  a_kq = |(l_u R_k,1, l_v R_k,2)|   (cell units)
+  //   bending   the same with the second derivatives (l_a l_b R_k,ab), over points with a curvature.
+  // The largest eigenvalue of M^-1 K of either term is bounded by its value times the material constant, so
+  // the elastic-wave bound, calibrated on the uncut NURBS bases, scales by sqrt(reference / current).
+  // MLS fits next to crack junctions have gradients several times a NURBS one's (docs/mls.md).
+  struct BasisStiffness {
+    double membrane = 0, bending = 0;
+  };
+  const BasisStiffness& basis_stiffness() const { return basis_stiffness_; }
+  const BasisStiffness& reference_basis_stiffness() const { return reference_stiffness_; }
+  // sqrt(reference / current) of each term, at most 1: the factors on the membrane and bending wave bounds.
+  double membrane_step_scale() const;
+  double bending_step_scale() const;
+
  private:
   void build_quadrature(const QuadratureRule& rule);
   void build_masses();
@@ -275,6 +291,7 @@ class ShellPatch {
   // True when the crack separates xi from any control point of the NURBS support of `cell`.
   bool nurbs_support_cut(const Vec2& xi, size_t cell, const crack2d::CrackIndex& index) const;
   void rebuild_mls_gather();
+  BasisStiffness compute_basis_stiffness() const;
   // Damage update and tensile weakening of one layer point's in-plane Kirchhoff stress (thesis 4.4.1).
   // With plane strain, tau33 (the transverse normal stress tau^33) joins the principal split.
   InPlaneTensor damaged_stress(const InPlaneTensor& tau, const Vec3& g1, const Vec3& g2, double detF, size_t q,
@@ -311,6 +328,7 @@ class ShellPatch {
   std::vector<int> mls_gather_offsets_;             // control point -> entries of mls_gather_
   std::vector<std::pair<int, int>> mls_gather_;     // (slot, support entry)
   size_t num_mls_points_ = 0;
+  BasisStiffness reference_stiffness_, basis_stiffness_;  // of the uncut NURBS bases; of the current ones
   // Deterministic gather of per-cell forces: control point c receives cell_force_[gather_[k]] for
   // k in gather_offsets_[c] .. gather_offsets_[c+1].
   std::vector<Vec3> cell_force_;

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "shell/shell_patch.hpp"
 
@@ -189,7 +190,65 @@ CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t fi
   for (int32_t s : point_slot_) report.mls_points += s >= 0 && slots_[static_cast<size_t>(s)].level < BasisLevel::Rigid;
   for (int32_t s : shear_slot_) report.mls_shear += s >= 0 && slots_[static_cast<size_t>(s)].level < BasisLevel::Rigid;
   num_mls_points_ = report.mls_points;
+  basis_stiffness_ = compute_basis_stiffness();
   return report;
+}
+
+ShellPatch::BasisStiffness ShellPatch::compute_basis_stiffness() const {
+  const double lu = control_grid_.cell_u, lv = control_grid_.cell_v;
+  std::vector<double> membrane(x.size(), 0.0), bending(x.size(), 0.0);
+  std::vector<double> a, b;
+  // One point's share of the row sums: V a_i (sum_j a_j) for every support control point i.
+  auto add_point = [&](const BasisView& view, double V, bool curvature) {
+    a.assign(static_cast<size_t>(view.n), 0.0);
+    b.assign(static_cast<size_t>(view.n), 0.0);
+    double sum_a = 0, sum_b = 0;
+    for (int s = 0; s < view.n; ++s) {
+      const double* d = view.basis + s * view.stride;
+      a[static_cast<size_t>(s)] = std::hypot(lu * d[1], lv * d[2]);
+      if (curvature)
+        b[static_cast<size_t>(s)] = std::sqrt(std::pow(lu * lu * d[3], 2) + 2 * std::pow(lu * lv * d[4], 2) +
+                                              std::pow(lv * lv * d[5], 2));
+      sum_a += a[static_cast<size_t>(s)];
+      sum_b += b[static_cast<size_t>(s)];
+    }
+    for (int s = 0; s < view.n; ++s) {
+      const size_t i = static_cast<size_t>(view.index[s]);
+      membrane[i] += V * a[static_cast<size_t>(s)] * sum_a;
+      bending[i] += V * b[static_cast<size_t>(s)] * sum_b;
+    }
+  };
+  const size_t L = layers_.xi3.size();
+  for (size_t q = 0; q < param_.size(); ++q) {
+    const int32_t slot = point_slot_.empty() ? -1 : point_slot_[q];
+    const MlsSupport* m = slot >= 0 ? &slots_[static_cast<size_t>(slot)] : nullptr;
+    if (m && m->level >= BasisLevel::Rigid) continue;  // carries no stress
+    double V = 0;
+    for (size_t l = 0; l < L; ++l) V += volume_[q * L + l];
+    add_point(point_basis(q), V, !(m && m->order == 1));
+  }
+  for (size_t c = 0; c < num_cells_; ++c) {  // Type III: first derivatives only (tangents a_1, a_2)
+    const int32_t slot = shear_slot_.empty() ? -1 : shear_slot_[c];
+    if (slot >= 0 && slots_[static_cast<size_t>(slot)].level >= BasisLevel::Rigid) continue;
+    add_point(shear_basis(c), shear.volume[c], false);
+  }
+  BasisStiffness out;
+  for (size_t i = 0; i < x.size(); ++i) {
+    if (!(mass[i] > 0)) continue;
+    out.membrane = std::max(out.membrane, membrane[i] / mass[i]);
+    out.bending = std::max(out.bending, bending[i] / mass[i]);
+  }
+  return out;
+}
+
+double ShellPatch::membrane_step_scale() const {
+  if (!(basis_stiffness_.membrane > reference_stiffness_.membrane)) return 1.0;
+  return std::sqrt(reference_stiffness_.membrane / basis_stiffness_.membrane);
+}
+
+double ShellPatch::bending_step_scale() const {
+  if (!(basis_stiffness_.bending > reference_stiffness_.bending)) return 1.0;
+  return std::sqrt(reference_stiffness_.bending / basis_stiffness_.bending);
 }
 
 void ShellPatch::rebuild_mls_gather() {

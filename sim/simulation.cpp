@@ -64,12 +64,14 @@ Simulation::Simulation(const scene::Model& model)
     const double c = std::sqrt(m.youngs_modulus / (m.density * (1 - m.poisson_ratio * m.poisson_ratio)));
     const double h = std::min(grid_.dx(), cell_size(world_.shell(i)));
     const double tau = model_.shells[i].thickness;
-    elastic_bound_ = std::min({elastic_bound_, h / c, std::sqrt(3.0) * h * h / (c * tau)});
+    shell_wave_bounds_.emplace_back(h / c, std::sqrt(3.0) * h * h / (c * tau));
+    elastic_bound_ = std::min({elastic_bound_, shell_wave_bounds_.back().first, shell_wave_bounds_.back().second});
   }
   for (const scene::model::SolidBody& b : model_.solids) {  // dilatational wave speed sqrt((lambda + 2 mu) / rho)
     const scene::model::Material& m = b.material;
-    elastic_bound_ = std::min(elastic_bound_, grid_.dx() / std::sqrt((m.lambda() + 2 * m.mu()) / m.density));
+    solid_wave_bound_ = std::min(solid_wave_bound_, grid_.dx() / std::sqrt((m.lambda() + 2 * m.mu()) / m.density));
   }
+  elastic_bound_ = std::min(elastic_bound_, solid_wave_bound_);
   const scene::model::TimeSettings& time = model_.time;
   const double allowed = time.cfl * elastic_bound_;
   if (time.dt && *time.dt > allowed && !time.allow_substepping && time.enforce_stability_bound)
@@ -101,9 +103,19 @@ Span<Eigen::Vector3d> Simulation::shear_velocities(size_t shell) {
   return {v.data(), v.size()};
 }
 
+double Simulation::current_elastic_wave_bound() const {
+  double bound = solid_wave_bound_;
+  for (size_t i = 0; i < shell_wave_bounds_.size(); ++i) {
+    const shell::ShellPatch& patch = world_.shell(i);
+    bound = std::min({bound, shell_wave_bounds_[i].first * patch.membrane_step_scale(),
+                      shell_wave_bounds_[i].second * patch.bending_step_scale()});
+  }
+  return bound;
+}
+
 double Simulation::stable_dt() const {
   if (!model_.time.enforce_stability_bound) return *model_.time.dt;  // stability studies: as given
-  double dt = model_.time.cfl * elastic_bound_;
+  double dt = model_.time.cfl * current_elastic_wave_bound();
   if (model_.time.dt) dt = std::min(dt, *model_.time.dt);
   double vmax = 0;
   for (size_t i = 0; i < world_.num_shells(); ++i)

@@ -47,8 +47,11 @@ class Simulation {
   // Largest stable step: cfl times the elastic-wave bound of the stiffest shell on the grid, further
   // limited so that no particle moves more than cfl grid cells per step at the current speeds.
   double stable_dt() const;
-  // The elastic-wave part of the bound (without the cfl factor), for reports.
+  // The elastic-wave part of the bound (without the cfl factor) of the uncut NURBS bases, for reports.
   double elastic_wave_bound() const { return elastic_bound_; }
+  // The same for the current bases: each shell's membrane and bending bounds shrink with the stiffness of
+  // the MLS bases beside its cracks (ShellPatch::membrane_step_scale). What stable_dt() uses.
+  double current_elastic_wave_bound() const;
 
   // One step of size dt through the stages. Throws NumericalError naming the particle, shell and step.
   void step(double dt);
@@ -128,6 +131,9 @@ class Simulation {
   BrittleSystem brittle_;
   StageTimer timer_;
   double elastic_bound_ = 0;
+  // Per shell: the membrane (h / c) and bending (sqrt(3) h^2 / (c tau)) wave bounds of the NURBS bases.
+  std::vector<std::pair<double, double>> shell_wave_bounds_;
+  double solid_wave_bound_ = 1e300;
   double time_ = 0;
   long steps_ = 0;
   double min_dt_ = 0, max_dt_ = 0;

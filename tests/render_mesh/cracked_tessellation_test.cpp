@@ -210,6 +210,23 @@ TEST(CrackedTessellation, CutThroughGridVerticesAndAlongAQuadEdge) {
   EXPECT_EQ(on_crack, 3 + 2);
 }
 
+TEST(CrackedTessellation, CrackVerticesWithMedialAxisRoundOffStillHitTheGrid) {
+  // The same crack as above at 64 x 64 quads, its vertices off by 2e-9 (the round-off of crack vertices
+  // from the Voronoi medial axis; 1.3e-7 of a quad side). It must still run along the grid line and
+  // through the grid vertices: no face thinner than a quad's 1e-6, the same faces as the exact crack.
+  const double d = 2e-9;
+  const Split exact = cut(polyline({Vec2(0.0, 0.25), Vec2(0.5, 0.25), Vec2(1.0, 0.75)}), 64, 64);
+  const Split noisy = cut(polyline({Vec2(0.0, 0.25 + d), Vec2(0.5 - d, 0.25 + d), Vec2(0.75 + d, 0.5 - d),
+                                    Vec2(1.0, 0.75 + d)}),
+                          64, 64);
+  expect_valid(noisy, 1.0);
+  const double quad_area = 1.0 / (64.0 * 64.0);
+  EXPECT_GT(smallest_face_area(noisy.split), 1e-6 * quad_area);
+  EXPECT_EQ(noisy.split.num_faces(), exact.split.num_faces());
+  EXPECT_EQ(noisy.split.num_vertices(), exact.split.num_vertices());
+  EXPECT_EQ(count_components(noisy.separated), 2);
+}
+
 TEST(CrackedTessellation, CrackAlongAQuadEdgeOnlySeparatesItsLength) {
   // Through the whole patch along v = 0.5: two fragments; a piece on the patch boundary cuts nothing.
   const Split full = cut({{Vec2(0.0, 0.5), Vec2(1.0, 0.5)}, {Vec2(0.0, 0.0), Vec2(1.0, 0.0)}}, 4, 4);

@@ -1,0 +1,82 @@
+// The explicit step bound follows the bases: MLS fits beside crack junctions are stiffer than the NURBS
+// basis the elastic-wave bound was calibrated on, and the bound shrinks with them
+// (ShellPatch::membrane_step_scale, Simulation::current_elastic_wave_bound).
+//
+// The check is a conservation law: a cut sheet in free flight with a uniform velocity and no load is
+// stress free, so every control point must keep that velocity. A step above the stable one amplifies
+// round-off at the junction of five crossing cuts exponentially (first seen as a star-cut sheet that
+// exploded in free fall before it reached its collider).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "scene/build.hpp"
+#include "sim/simulation.hpp"
+
+namespace shellfrac::sim {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A 1 m^2 sheet with `cuts` straight cuts through its centre, each from border to border, at angles
+// 10 + k 180 / cuts degrees (none along a grid line), moving at 1 m/s along -z without gravity.
+std::string star_scene(int cells, int cuts, const std::string& time = "") {
+  std::string list;
+  for (int k = 0; k < cuts; ++k) {
+    const double a = (10.0 + 180.0 * k / cuts) * kPi / 180.0;
+    const double du = std::cos(a), dv = std::sin(a);
+    // Border to border through (0.5, 0.5): the nearer exit along each direction.
+    const double t = std::min(std::abs(du) > 1e-12 ? 0.5 / std::abs(du) : 1e9,
+                              std::abs(dv) > 1e-12 ? 0.5 / std::abs(dv) : 1e9);
+    if (k) list += ", ";
+    list += "{\"points\": [[" + std::to_string(0.5 - t * du) + ", " + std::to_string(0.5 - t * dv) + "], [" +
+            std::to_string(0.5 + t * du) + ", " + std::to_string(0.5 + t * dv) + "]]}";
+  }
+  const std::string cells_s = std::to_string(cells);
+  return R"({"name": "star", "gravity": [0, 0, 0],)" + time + R"(
+    "shells": [{"name": "sheet", "patch": {"type": "flat", "size": [1.0, 1.0], "cells": [)" +
+         cells_s + ", " + cells_s + R"(]},
+      "thickness": 0.0005, "material": {"E": 2e5, "nu": 0.3, "density": 300},
+      "initial_velocity": [0, 0, -1],
+      "cuts": [)" + list + "]}]}";
+}
+
+// Largest |v_i - (0, 0, -1)| over the control points after `steps` steps of the simulation's own size.
+double drift_after(Simulation& sim, int steps) {
+  double worst = 0;
+  for (int s = 0; s < steps && worst < 1.0; ++s) {
+    sim.step(sim.stable_dt());
+    for (const Eigen::Vector3d& v : sim.world().shell(0).v) worst = std::max(worst, (v - Eigen::Vector3d(0, 0, -1)).norm());
+  }
+  return worst;
+}
+
+TEST(BasisStepBound, UncutSheetKeepsTheCalibratedBound) {
+  Simulation sim(scene::build_model(star_scene(12, 0), "star.json"));
+  EXPECT_EQ(sim.current_elastic_wave_bound(), sim.elastic_wave_bound());
+  EXPECT_EQ(sim.world().shell(0).membrane_step_scale(), 1.0);
+  EXPECT_EQ(sim.world().shell(0).bending_step_scale(), 1.0);
+}
+
+TEST(BasisStepBound, StarOfCutsStaysRigidInFreeFlightAtTheBasisAwareStep) {
+  Simulation sim(scene::build_model(star_scene(24, 5), "star.json"));
+  const double ratio = sim.current_elastic_wave_bound() / sim.elastic_wave_bound();
+  EXPECT_LT(ratio, 1.0);  // the junction's MLS fits are stiffer than the NURBS basis
+  // Uniform motion is an exact solution: round-off (1e-16 of 1 m/s per step) may accumulate, nothing
+  // may grow. 200 steps at this step cover more time than the 45 old steps in which it blew up.
+  EXPECT_LT(drift_after(sim, 200), 1e-9);
+}
+
+TEST(BasisStepBound, StarOfCutsDivergesAtTheUncutBound) {
+  // The negative control: the same sheet stepped at cfl 0.5 of the NURBS bound (the old rule).
+  Simulation probe(scene::build_model(star_scene(24, 5), "star.json"));
+  const double dt = 0.5 * probe.elastic_wave_bound();
+  Simulation sim(scene::build_model(
+      star_scene(24, 5, R"("time": {"end": 1, "dt": )" + std::to_string(dt) + R"(, "enforce_stability_bound": false},)"),
+      "star.json"));
+  EXPECT_GT(drift_after(sim, 300), 1e-3);
+}
+
+}  // namespace
+}  // namespace shellfrac::sim
