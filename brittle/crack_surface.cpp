@@ -113,10 +113,23 @@ CrackExtraction extract_crack(const std::vector<Vec3>& rest, const std::vector<d
     out.site_node.push_back(static_cast<long>(n));
   }
   if (sites.empty()) return out;
+  // The container spans every B' node, the exit nodes left out of the sites included: the regions
+  // partition the container, and the fragments (region n object) sum to the object only if it covers
+  // the whole object. Where damage reaches most of the surface (a crushed contact zone, a shattered
+  // ball) the exit nodes are all of B' on that side, and a box around the sites alone cut the object off.
   Vec3 lo = sites.front(), hi = sites.front();
   for (const Vec3& s : sites) {
     lo = lo.cwiseMin(s);
     hi = hi.cwiseMax(s);
+  }
+  for (size_t n = 0; n < grid.num_nodes(); ++n) {
+    if (!grid.in(n, kSetBd)) continue;
+    lo = lo.cwiseMin(grid.position(n));
+    hi = hi.cwiseMax(grid.position(n));
+  }
+  if ((o.cover_lo.array() <= o.cover_hi.array()).all()) {
+    lo = lo.cwiseMin(o.cover_lo);
+    hi = hi.cwiseMax(o.cover_hi);
   }
   lo -= Vec3::Constant(0.5 * h);
   hi += Vec3::Constant(0.5 * h);

@@ -1,4 +1,5 @@
 #pragma once
+#include <limits>
 #include <vector>
 
 #include "brittle/crack_grid.hpp"
@@ -11,6 +12,10 @@ struct CrackExtractionOptions {
   double site_jitter = 0.05;      // sites move up to this fraction of h_v off their nodes (general position)
   unsigned long long seed = 1;    // of the jitter
   int orientation_search = 4000;  // states the BFS of Algorithm 3 may visit before it gives up
+  // A box the Voronoi container must also cover (the object's mesh, whose surface may reach past the
+  // particles' B' nodes where a thin feature holds no particle). Empty by default.
+  Vec3 cover_lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 cover_hi = Vec3::Constant(-std::numeric_limits<double>::infinity());
 };
 
 // The extracted crack (thesis sec. 3.3): the Voronoi diagram of V u B' and, per face, whether it is a

@@ -104,6 +104,17 @@ FragmentSet cut_fragments(const TriMesh& domain, const VoronoiDiagram& diagram, 
     finish_fragments(set, domain.name);
     return set;
   }
+  {  // The regions partition the Voronoi container: material outside it would be lost without a word.
+    Vec3 lo, hi;
+    bounding_box(domain, lo, hi);
+    if ((lo.array() < diagram.box_lo.array()).any() || (hi.array() > diagram.box_hi.array()).any()) {
+      std::ostringstream m;
+      m << source << ": mesh '" << domain.name << "' (box " << lo.transpose() << " .. " << hi.transpose()
+        << ") reaches outside the Voronoi container (" << diagram.box_lo.transpose() << " .. " << diagram.box_hi.transpose()
+        << "); extract the crack with CrackExtractionOptions::cover_lo/hi set to the mesh's box";
+      throw NumericalError(m.str());
+    }
+  }
   if (o.cutter == Cutter::Exact) {
     set = cut_fragments_exact(domain, diagram, regions, o, source);
     finish_fragments(set, domain.name);

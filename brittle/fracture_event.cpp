@@ -15,6 +15,7 @@ FractureEvent fracture_event(const BrittleSolid& solid, const TriMesh& domain, c
   FragmentOptions fo = o.fragments;
   fo.density = o.density > 0 ? o.density : solid.material.density;
   CrackExtractionOptions co = o.crack;
+  bounding_box(domain, co.cover_lo, co.cover_hi);  // the regions must cover the whole mesh
   const std::vector<double> history = solid.damage_history();
   for (int attempt = 0;; ++attempt) {
     const auto t0 = std::chrono::steady_clock::now();
