@@ -356,17 +356,27 @@ ForceFailure ShellPatch::compute_forces() {
         if (with_director)
           for (int i = 0; i < kType4Lanes; ++i) batch.r33[i] = r33_of(cell_of(batch.q[i]));
         type4_force_batch(data, batch, result);
-        for (int i = 0; i < kType4Lanes; ++i) {
-          if (!((batch.active >> i) & 1u)) continue;
+        // Scatter, lane by lane in point order (the scalar kernel's order of summation), one run of lanes
+        // per cell.
+        for (int i = 0; i < kType4Lanes;) {
           const size_t c = cell_of(batch.q[i]);
-          if (cell_failed[c]) continue;
-          if (result.status[i] != kType4Ok) {
-            cell_failed[c] = static_cast<unsigned char>(result.status[i]);
-            continue;
+          int lanes[kType4Lanes], count = 0, end = i;
+          for (; end < kType4Lanes && cell_of(batch.q[end]) == c; ++end) {
+            if (!((batch.active >> end) & 1u) || cell_failed[c]) continue;
+            if (result.status[end] != kType4Ok)
+              cell_failed[c] = static_cast<unsigned char>(result.status[end]);
+            else
+              lanes[count++] = end;
           }
-          Vec3* out = &cell_force_[c * n];
+          i = end;
+          if (cell_failed[c] || !count) continue;
+          double* out = cell_force_[c * n].data();  // n packed Vec3
           for (size_t s = 0; s < n; ++s)
-            out[s] += Vec3(result.force[s][0][i], result.force[s][1][i], result.force[s][2][i]);
+            for (int k = 0; k < 3; ++k) {
+              double sum = out[3 * s + static_cast<size_t>(k)];
+              for (int j = 0; j < count; ++j) sum += result.force[s][k][lanes[j]];
+              out[3 * s + static_cast<size_t>(k)] = sum;
+            }
         }
       }
       for (size_t q = q_begin; q < q_end; ++q)

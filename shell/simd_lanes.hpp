@@ -19,97 +19,203 @@ typedef double Native __attribute__((vector_size(kNative * sizeof(double))));
 typedef long long NativeInt __attribute__((vector_size(kNative * sizeof(long long))));
 
 #define SF_INLINE static inline __attribute__((always_inline))
-#define SF_PARTS for (int k_ = 0; k_ < kParts; ++k_)
 
+// The parts are named members, not an array: GCC keeps named vector members in registers, while an array
+// member indexed in a loop tends to stay in memory (every operation a load and a store).
 struct Lanes {
-  Native p[kParts];
-  double operator[](int i) const { return p[i / kNative][i % kNative]; }
-  void set(int i, double v) { p[i / kNative][i % kNative] = v; }
+#if defined(__AVX__)
+  Native a, b;
+#else
+  Native a, b, c, d;
+#endif
+  double operator[](int i) const { return part(i / kNative)[i % kNative]; }
+  void set(int i, double v) { part(i / kNative)[i % kNative] = v; }
+  Native part(int k) const { return k == 0 ? a : k == 1 ? b : k == 2 ? c_() : d_(); }
+  Native& part(int k) { return k == 0 ? a : k == 1 ? b : k == 2 ? c_() : d_(); }
+
+ private:
+#if defined(__AVX__)
+  Native c_() const { return a; }  // unreachable: two parts
+  Native d_() const { return a; }
+  Native& c_() { return a; }
+  Native& d_() { return a; }
+#else
+  Native c_() const { return c; }
+  Native d_() const { return d; }
+  Native& c_() { return c; }
+  Native& d_() { return d; }
+#endif
 };
 // Per lane: -1 (true) or 0 (false) from comparisons, or any 64-bit integer (the bit tricks of ln and e^x).
 struct LaneMask {
-  NativeInt p[kParts];
-  long long operator[](int i) const { return p[i / kNative][i % kNative]; }
+#if defined(__AVX__)
+  NativeInt a, b;
+#else
+  NativeInt a, b, c, d;
+#endif
+  long long operator[](int i) const {
+    const int k = i / kNative, j = i % kNative;
+#if defined(__AVX__)
+    return k == 0 ? a[j] : b[j];
+#else
+    return k == 0 ? a[j] : k == 1 ? b[j] : k == 2 ? c[j] : d[j];
+#endif
+  }
 };
 
-SF_INLINE Lanes splat(double a) {
+// r.m = EXPR(m) for every part m.
+#if defined(__AVX__)
+#define SF_EACH(r, EXPR) \
+  do {                   \
+    (r).a = EXPR(a);     \
+    (r).b = EXPR(b);     \
+  } while (0)
+#else
+#define SF_EACH(r, EXPR) \
+  do {                   \
+    (r).a = EXPR(a);     \
+    (r).b = EXPR(b);     \
+    (r).c = EXPR(c);     \
+    (r).d = EXPR(d);     \
+  } while (0)
+#endif
+
+SF_INLINE Lanes splat(double v) {
   Lanes r;
-  SF_PARTS r.p[k_] = Native{} + a;
+#define SF_E(m) (Native{} + v)
+  SF_EACH(r, SF_E);
+#undef SF_E
   return r;
 }
-SF_INLINE LaneMask splat_int(long long a) {
+SF_INLINE LaneMask splat_int(long long v) {
   LaneMask r;
-  SF_PARTS r.p[k_] = NativeInt{} + a;
+#define SF_E(m) (NativeInt{} + v)
+  SF_EACH(r, SF_E);
+#undef SF_E
   return r;
 }
-SF_INLINE Lanes as_lanes(const LaneMask& m) {
+SF_INLINE Lanes as_lanes(const LaneMask& x) {
   Lanes r;
-  SF_PARTS r.p[k_] = (Native)m.p[k_];
+#define SF_E(m) ((Native)x.m)
+  SF_EACH(r, SF_E);
+#undef SF_E
   return r;
 }
-SF_INLINE LaneMask as_mask(const Lanes& a) {
+SF_INLINE LaneMask as_mask(const Lanes& x) {
   LaneMask r;
-  SF_PARTS r.p[k_] = (NativeInt)a.p[k_];
+#define SF_E(m) ((NativeInt)x.m)
+  SF_EACH(r, SF_E);
+#undef SF_E
   return r;
 }
 
-#define SF_LANES_BINARY(OP)                                                       \
-  SF_INLINE Lanes operator OP(const Lanes& a, const Lanes& b) {                   \
-    Lanes r;                                                                      \
-    SF_PARTS r.p[k_] = a.p[k_] OP b.p[k_];                                        \
-    return r;                                                                     \
-  }                                                                               \
-  SF_INLINE Lanes operator OP(const Lanes& a, double b) { return a OP splat(b); } \
-  SF_INLINE Lanes operator OP(double a, const Lanes& b) { return splat(a) OP b; }
-SF_LANES_BINARY(+)
-SF_LANES_BINARY(-)
-SF_LANES_BINARY(*)
-SF_LANES_BINARY(/)
-#undef SF_LANES_BINARY
-SF_INLINE Lanes operator-(const Lanes& a) {
+#define SF_E(m) (x.m SF_OP y.m)
+#define SF_BINARY(R, A, B)                                                     \
+  SF_INLINE R operator SF_OP_TOKEN(const A& x, const B& y) {                   \
+    R r;                                                                       \
+    SF_EACH(r, SF_E);                                                          \
+    return r;                                                                  \
+  }
+// (The operator token is passed through SF_OP / SF_OP_TOKEN, redefined for each operator.)
+#define SF_OP +
+#define SF_OP_TOKEN +
+SF_BINARY(Lanes, Lanes, Lanes)
+SF_BINARY(LaneMask, LaneMask, LaneMask)
+#undef SF_OP
+#undef SF_OP_TOKEN
+#define SF_OP -
+#define SF_OP_TOKEN -
+SF_BINARY(Lanes, Lanes, Lanes)
+SF_BINARY(LaneMask, LaneMask, LaneMask)
+#undef SF_OP
+#undef SF_OP_TOKEN
+#define SF_OP *
+#define SF_OP_TOKEN *
+SF_BINARY(Lanes, Lanes, Lanes)
+#undef SF_OP
+#undef SF_OP_TOKEN
+#define SF_OP /
+#define SF_OP_TOKEN /
+SF_BINARY(Lanes, Lanes, Lanes)
+#undef SF_OP
+#undef SF_OP_TOKEN
+#define SF_OP &
+#define SF_OP_TOKEN &
+SF_BINARY(LaneMask, LaneMask, LaneMask)
+#undef SF_OP
+#undef SF_OP_TOKEN
+#define SF_OP |
+#define SF_OP_TOKEN |
+SF_BINARY(LaneMask, LaneMask, LaneMask)
+#undef SF_OP
+#undef SF_OP_TOKEN
+#define SF_OP <
+#define SF_OP_TOKEN <
+SF_BINARY(LaneMask, Lanes, Lanes)
+#undef SF_OP
+#undef SF_OP_TOKEN
+#define SF_OP <=
+#define SF_OP_TOKEN <=
+SF_BINARY(LaneMask, Lanes, Lanes)
+#undef SF_OP
+#undef SF_OP_TOKEN
+#define SF_OP >
+#define SF_OP_TOKEN >
+SF_BINARY(LaneMask, Lanes, Lanes)
+#undef SF_OP
+#undef SF_OP_TOKEN
+#define SF_OP >=
+#define SF_OP_TOKEN >=
+SF_BINARY(LaneMask, Lanes, Lanes)
+#undef SF_OP
+#undef SF_OP_TOKEN
+#undef SF_BINARY
+#undef SF_E
+
+// Mixed with scalars.
+SF_INLINE Lanes operator+(const Lanes& x, double y) { return x + splat(y); }
+SF_INLINE Lanes operator+(double x, const Lanes& y) { return splat(x) + y; }
+SF_INLINE Lanes operator-(const Lanes& x, double y) { return x - splat(y); }
+SF_INLINE Lanes operator-(double x, const Lanes& y) { return splat(x) - y; }
+SF_INLINE Lanes operator*(const Lanes& x, double y) { return x * splat(y); }
+SF_INLINE Lanes operator*(double x, const Lanes& y) { return splat(x) * y; }
+SF_INLINE Lanes operator/(const Lanes& x, double y) { return x / splat(y); }
+SF_INLINE Lanes operator/(double x, const Lanes& y) { return splat(x) / y; }
+SF_INLINE LaneMask operator<(const Lanes& x, double y) { return x < splat(y); }
+SF_INLINE LaneMask operator<=(const Lanes& x, double y) { return x <= splat(y); }
+SF_INLINE LaneMask operator>(const Lanes& x, double y) { return x > splat(y); }
+SF_INLINE LaneMask operator>=(const Lanes& x, double y) { return x >= splat(y); }
+SF_INLINE LaneMask operator&(const LaneMask& x, long long y) { return x & splat_int(y); }
+SF_INLINE LaneMask operator|(const LaneMask& x, long long y) { return x | splat_int(y); }
+SF_INLINE LaneMask operator+(const LaneMask& x, long long y) { return x + splat_int(y); }
+SF_INLINE LaneMask operator-(const LaneMask& x, long long y) { return x - splat_int(y); }
+
+SF_INLINE Lanes operator-(const Lanes& x) {
   Lanes r;
-  SF_PARTS r.p[k_] = -a.p[k_];
+#define SF_E(m) (-x.m)
+  SF_EACH(r, SF_E);
+#undef SF_E
   return r;
 }
-
-#define SF_LANES_COMPARE(OP)                                               \
-  SF_INLINE LaneMask operator OP(const Lanes& a, const Lanes& b) {         \
-    LaneMask r;                                                            \
-    SF_PARTS r.p[k_] = a.p[k_] OP b.p[k_];                                 \
-    return r;                                                              \
-  }                                                                        \
-  SF_INLINE LaneMask operator OP(const Lanes& a, double b) { return a OP splat(b); }
-SF_LANES_COMPARE(<)
-SF_LANES_COMPARE(<=)
-SF_LANES_COMPARE(>)
-SF_LANES_COMPARE(>=)
-#undef SF_LANES_COMPARE
-
-#define SF_MASK_BINARY(OP)                                                 \
-  SF_INLINE LaneMask operator OP(const LaneMask& a, const LaneMask& b) {   \
-    LaneMask r;                                                            \
-    SF_PARTS r.p[k_] = a.p[k_] OP b.p[k_];                                 \
-    return r;                                                              \
-  }                                                                        \
-  SF_INLINE LaneMask operator OP(const LaneMask& a, long long b) { return a OP splat_int(b); }
-SF_MASK_BINARY(&)
-SF_MASK_BINARY(|)
-SF_MASK_BINARY(+)
-SF_MASK_BINARY(-)
-#undef SF_MASK_BINARY
-SF_INLINE LaneMask operator~(const LaneMask& a) {
+SF_INLINE LaneMask operator~(const LaneMask& x) {
   LaneMask r;
-  SF_PARTS r.p[k_] = ~a.p[k_];
+#define SF_E(m) (~x.m)
+  SF_EACH(r, SF_E);
+#undef SF_E
   return r;
 }
-SF_INLINE LaneMask operator<<(const LaneMask& a, int s) {
+SF_INLINE LaneMask operator<<(const LaneMask& x, int s) {
   LaneMask r;
-  SF_PARTS r.p[k_] = a.p[k_] << s;
+#define SF_E(m) (x.m << s)
+  SF_EACH(r, SF_E);
+#undef SF_E
   return r;
 }
-SF_INLINE LaneMask operator>>(const LaneMask& a, int s) {
+SF_INLINE LaneMask operator>>(const LaneMask& x, int s) {
   LaneMask r;
-  SF_PARTS r.p[k_] = a.p[k_] >> s;
+#define SF_E(m) (x.m >> s)
+  SF_EACH(r, SF_E);
+#undef SF_E
   return r;
 }
 
@@ -119,13 +225,13 @@ template <class F>
 SF_INLINE Lanes gather(F f) {
   Lanes r;
 #if defined(__AVX__)
-  r.p[0] = Native{f(0), f(1), f(2), f(3)};
-  r.p[1] = Native{f(4), f(5), f(6), f(7)};
+  r.a = Native{f(0), f(1), f(2), f(3)};
+  r.b = Native{f(4), f(5), f(6), f(7)};
 #else
-  r.p[0] = Native{f(0), f(1)};
-  r.p[1] = Native{f(2), f(3)};
-  r.p[2] = Native{f(4), f(5)};
-  r.p[3] = Native{f(6), f(7)};
+  r.a = Native{f(0), f(1)};
+  r.b = Native{f(2), f(3)};
+  r.c = Native{f(4), f(5)};
+  r.d = Native{f(6), f(7)};
 #endif
   return r;
 }
@@ -136,8 +242,11 @@ SF_INLINE Lanes select(const LaneMask& m, const Lanes& a, const Lanes& b) {
   return as_lanes((m & as_mask(a)) | (~m & as_mask(b)));
 }
 SF_INLINE bool any(const LaneMask& m) {
-  NativeInt r = m.p[0];
-  for (int k = 1; k < kParts; ++k) r |= m.p[k];
+#if defined(__AVX__)
+  const NativeInt r = m.a | m.b;
+#else
+  const NativeInt r = (m.a | m.b) | (m.c | m.d);
+#endif
   long long o = 0;
   for (int i = 0; i < kNative; ++i) o |= r[i];
   return o != 0;
@@ -145,9 +254,15 @@ SF_INLINE bool any(const LaneMask& m) {
 SF_INLINE bool all(const LaneMask& m) { return !any(~m); }
 
 // With -fno-math-errno these per-lane loops become vector square roots.
-SF_INLINE Lanes vsqrt(const Lanes& a) {
+SF_INLINE Native native_sqrt(Native x) {
+  for (int i = 0; i < kNative; ++i) x[i] = __builtin_sqrt(x[i]);
+  return x;
+}
+SF_INLINE Lanes vsqrt(const Lanes& x) {
   Lanes r;
-  SF_PARTS for (int i = 0; i < kNative; ++i) r.p[k_][i] = __builtin_sqrt(a.p[k_][i]);
+#define SF_E(m) native_sqrt(x.m)
+  SF_EACH(r, SF_E);
+#undef SF_E
   return r;
 }
 SF_INLINE Lanes vmax(const Lanes& a, const Lanes& b) { return select(a > b, a, b); }
