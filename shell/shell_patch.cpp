@@ -341,27 +341,29 @@ ForceFailure ShellPatch::compute_forces() {
         batch.active = 0;
         batch.basis = &basis_lanes_[first / kType4Lanes * n * 5 * kType4Lanes];
         const size_t fill = q_begin > first ? q_begin : first;  // a valid point for the inactive lanes
+        size_t lane_cell[kType4Lanes];
         for (int i = 0; i < kType4Lanes; ++i) {
           const size_t q = first + static_cast<size_t>(i);
           const bool inside = q >= q_begin && q < q_end && q < nq;
           const size_t lane_q = inside ? q : fill;
           if (inside && point_slot_[q] < 0) batch.active |= 1u << i;
           batch.q[i] = lane_q;
-          batch.support[i] = support(cell_of(lane_q));
+          lane_cell[i] = cell_of(lane_q);
+          batch.support[i] = support(lane_cell[i]);
           batch.r33[i] = 1.0;
         }
         if (!batch.active) continue;
         batch.shared_support = true;
         for (int i = 1; i < kType4Lanes; ++i) batch.shared_support &= batch.support[i] == batch.support[0];
         if (with_director)
-          for (int i = 0; i < kType4Lanes; ++i) batch.r33[i] = r33_of(cell_of(batch.q[i]));
+          for (int i = 0; i < kType4Lanes; ++i) batch.r33[i] = r33_of(lane_cell[i]);
         type4_force_batch(data, batch, result);
-        // Scatter, lane by lane in point order (the scalar kernel's order of summation), one run of lanes
-        // per cell.
+        // Scatter, one run of lanes per cell: a full batch by a fixed pairwise sum, a partial one lane by lane
+        // in point order. Either order is fixed by the data, so the sums do not depend on the threads.
         for (int i = 0; i < kType4Lanes;) {
-          const size_t c = cell_of(batch.q[i]);
+          const size_t c = lane_cell[i];
           int lanes[kType4Lanes], count = 0, end = i;
-          for (; end < kType4Lanes && cell_of(batch.q[end]) == c; ++end) {
+          for (; end < kType4Lanes && lane_cell[end] == c; ++end) {
             if (!((batch.active >> end) & 1u) || cell_failed[c]) continue;
             if (result.status[end] != kType4Ok)
               cell_failed[c] = static_cast<unsigned char>(result.status[end]);
@@ -371,6 +373,14 @@ ForceFailure ShellPatch::compute_forces() {
           i = end;
           if (cell_failed[c] || !count) continue;
           double* out = cell_force_[c * n].data();  // n packed Vec3
+          if (count == kType4Lanes) {  // a whole batch in one cell: a fixed pairwise sum (no serial chain)
+            for (size_t s = 0; s < n; ++s)
+              for (int k = 0; k < 3; ++k) {
+                const double* f = result.force[s][k];
+                out[3 * s + static_cast<size_t>(k)] += ((f[0] + f[1]) + (f[2] + f[3])) + ((f[4] + f[5]) + (f[6] + f[7]));
+              }
+            continue;
+          }
           for (size_t s = 0; s < n; ++s)
             for (int k = 0; k < 3; ++k) {
               double sum = out[3 * s + static_cast<size_t>(k)];

@@ -20,7 +20,8 @@ SF_INLINE void lane_of(const Lanes3& v, int l, double out[3]) {
 // Metric invariants and the in-plane Neo-Hookean Kirchhoff stress of one layer (neo_hookean_in_plane).
 struct LaneStress {
   Lanes t11, t12, t22;
-  Lanes J, lambda3;
+  Lanes J;
+  Lanes ln_lambda3;  // ln of the fibre stretch (its value is needed only by the damage criterion)
   LaneMask ok;
 };
 
@@ -63,16 +64,16 @@ SF_INLINE LaneStress lane_in_plane_stress(const Lanes3& g1, const Lanes3& g2, co
   switch (model) {
     case TransverseModel::Condensed: {
       const Lanes ln_l3 = lane_log_fibre_stretch(lnJ, mu, lambda);
-      s.lambda3 = vexp(ln_l3);
+      s.ln_lambda3 = ln_l3;
       ln_detF = lnJ + ln_l3;
       break;
     }
     case TransverseModel::Given:
-      s.lambda3 = given;
+      s.ln_lambda3 = splat(0.0);  // unused: the damage criterion takes `given` itself
       ln_detF = vlog(Jsafe * given);
       break;
     case TransverseModel::Rigid:
-      s.lambda3 = splat(1.0);
+      s.ln_lambda3 = splat(0.0);
       ln_detF = lnJ;
       break;
   }
@@ -238,7 +239,8 @@ SF_INLINE void batch_kernel(const shellfrac::shell::Type4Data& d, const shellfra
       const Lanes c_old = gather([&](int i) { return d.damage[b.q[i] * L + l]; });
       const Lanes Jsafe = select(st.ok, st.J, splat(1.0));
       const Lanes normal = d.plane_strain ? d.lambda * vlog(Jsafe) : splat(0.0);
-      lane_damage(t11, t12, t22, g1, g2, st.J * st.lambda3, normal, sigma_f, H, c_old, d.monotone, c_new[l]);
+      const Lanes lambda3 = d.model == TransverseModel::Given ? given : vexp(st.ln_lambda3);
+      lane_damage(t11, t12, t22, g1, g2, st.J * lambda3, normal, sigma_f, H, c_old, d.monotone, c_new[l]);
     }
     // dPsi/dg_alpha = V tau^{alpha beta} g_beta
     const Lanes3 k1 = V * (t11 * g1 + t12 * g2);
