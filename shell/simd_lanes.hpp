@@ -1,20 +1,21 @@
 #pragma once
-// Eight double lanes for the batched Type IV force kernel (shell/type4_batch_impl.hpp), written with the
-// compiler's generic vector extension (GCC and Clang) at the target's native width: 2 x 4 doubles with
-// AVX2, 4 x 2 with SSE2 or NEON, no intrinsics. (GCC lowers arithmetic on wider generic vectors well but
+// Four double lanes for the batched Type IV force kernel (shell/type4_batch_impl.hpp, which runs its
+// batches of eight points as two halves), written with the compiler's generic vector extension (GCC and
+// Clang) at the target's native width: one AVX2 register, two SSE2 or NEON registers, no intrinsics. Four,
+// not eight: with eight lanes on AVX2 the jet and the adjoint keep about 30 vector registers live, twice what
+// the machine has, and a third of the instructions were spills. (GCC lowers arithmetic on wider generic vectors well but
 // scalarises their comparisons, which the selects below depend on.) Everything here has internal linkage
 // and is force-inlined: this header is compiled once per instruction set (type4_batch_*.cpp), and a shared
 // inline symbol would let the linker hand AVX2 code to a machine without it.
 //
 // Include only inside an anonymous namespace of a kernel translation unit.
 
-constexpr int kLanes = 8;
+constexpr int kLanes = 4;  // the kernel runs a batch of 8 points as two halves (type4_batch_impl.hpp)
 #if defined(__AVX__)
 constexpr int kNative = 4;
 #else
 constexpr int kNative = 2;
 #endif
-constexpr int kParts = kLanes / kNative;
 typedef double Native __attribute__((vector_size(kNative * sizeof(double))));
 typedef long long NativeInt __attribute__((vector_size(kNative * sizeof(long long))));
 
@@ -24,43 +25,29 @@ typedef long long NativeInt __attribute__((vector_size(kNative * sizeof(long lon
 // member indexed in a loop tends to stay in memory (every operation a load and a store).
 struct Lanes {
 #if defined(__AVX__)
+  Native a;
+  double operator[](int i) const { return a[i]; }
+  void set(int i, double v) { a[i] = v; }
+#else
   Native a, b;
-#else
-  Native a, b, c, d;
-#endif
-  double operator[](int i) const { return part(i / kNative)[i % kNative]; }
-  void set(int i, double v) { part(i / kNative)[i % kNative] = v; }
-  Native part(int k) const { return k == 0 ? a : k == 1 ? b : k == 2 ? c_() : d_(); }
-  Native& part(int k) { return k == 0 ? a : k == 1 ? b : k == 2 ? c_() : d_(); }
-
- private:
-#if defined(__AVX__)
-  Native c_() const { return a; }  // unreachable: two parts
-  Native d_() const { return a; }
-  Native& c_() { return a; }
-  Native& d_() { return a; }
-#else
-  Native c_() const { return c; }
-  Native d_() const { return d; }
-  Native& c_() { return c; }
-  Native& d_() { return d; }
+  double operator[](int i) const { return i < kNative ? a[i] : b[i - kNative]; }
+  void set(int i, double v) {
+    if (i < kNative)
+      a[i] = v;
+    else
+      b[i - kNative] = v;
+  }
 #endif
 };
 // Per lane: -1 (true) or 0 (false) from comparisons, or any 64-bit integer (the bit tricks of ln and e^x).
 struct LaneMask {
 #if defined(__AVX__)
+  NativeInt a;
+  long long operator[](int i) const { return a[i]; }
+#else
   NativeInt a, b;
-#else
-  NativeInt a, b, c, d;
+  long long operator[](int i) const { return i < kNative ? a[i] : b[i - kNative]; }
 #endif
-  long long operator[](int i) const {
-    const int k = i / kNative, j = i % kNative;
-#if defined(__AVX__)
-    return k == 0 ? a[j] : b[j];
-#else
-    return k == 0 ? a[j] : k == 1 ? b[j] : k == 2 ? c[j] : d[j];
-#endif
-  }
 };
 
 // r.m = EXPR(m) for every part m.
@@ -68,15 +55,12 @@ struct LaneMask {
 #define SF_EACH(r, EXPR) \
   do {                   \
     (r).a = EXPR(a);     \
-    (r).b = EXPR(b);     \
   } while (0)
 #else
 #define SF_EACH(r, EXPR) \
   do {                   \
     (r).a = EXPR(a);     \
     (r).b = EXPR(b);     \
-    (r).c = EXPR(c);     \
-    (r).d = EXPR(d);     \
   } while (0)
 #endif
 
@@ -226,16 +210,13 @@ SF_INLINE Lanes gather(F f) {
   Lanes r;
 #if defined(__AVX__)
   r.a = Native{f(0), f(1), f(2), f(3)};
-  r.b = Native{f(4), f(5), f(6), f(7)};
 #else
   r.a = Native{f(0), f(1)};
   r.b = Native{f(2), f(3)};
-  r.c = Native{f(4), f(5)};
-  r.d = Native{f(6), f(7)};
 #endif
   return r;
 }
-static_assert(kLanes == 8, "gather lists eight lanes");
+static_assert(kLanes == 4, "gather lists four lanes");
 
 // m ? a : b per lane.
 SF_INLINE Lanes select(const LaneMask& m, const Lanes& a, const Lanes& b) {
@@ -243,9 +224,9 @@ SF_INLINE Lanes select(const LaneMask& m, const Lanes& a, const Lanes& b) {
 }
 SF_INLINE bool any(const LaneMask& m) {
 #if defined(__AVX__)
-  const NativeInt r = m.a | m.b;
+  const NativeInt r = m.a;
 #else
-  const NativeInt r = (m.a | m.b) | (m.c | m.d);
+  const NativeInt r = m.a | m.b;
 #endif
   long long o = 0;
   for (int i = 0; i < kNative; ++i) o |= r[i];

@@ -135,15 +135,21 @@ SF_INLINE void lane_damage(Lanes& t11, Lanes& t12, Lanes& t22, const Lanes3& g1,
   t22 = select(damaged, b22 * i22, t22);
 }
 
-SF_INLINE void batch_kernel(const shellfrac::shell::Type4Data& d, const shellfrac::shell::Type4Batch& b,
-                            shellfrac::shell::Type4BatchResult& out) {
+// Lanes o .. o + kLanes - 1 of the batch.
+SF_INLINE void half_batch(const shellfrac::shell::Type4Data& d, const shellfrac::shell::Type4Batch& b,
+                          shellfrac::shell::Type4BatchResult& out, int o) {
   using namespace shellfrac::shell;
+  const size_t* q = b.q + o;
+  const int* const* sup = b.support + o;
+  const double* r33 = b.r33 + o;
+  const unsigned active = b.active >> o;
+  int* status = out.status + o;
   const int n = b.n;
   const size_t L = static_cast<size_t>(d.layers);
   const double* B = b.basis;
   auto basis = [&](int s, int k) {
     Lanes v;
-    __builtin_memcpy(&v, B + (s * 5 + k) * kLanes, sizeof(Lanes));
+    __builtin_memcpy(&v, B + (s * 5 + k) * kType4Lanes + o, sizeof(Lanes));
     return v;
   };
 
@@ -156,11 +162,11 @@ SF_INLINE void batch_kernel(const shellfrac::shell::Type4Data& d, const shellfra
   for (int s = 0; s < n; ++s) {
     Lanes3 X;
     if (b.shared_support) {
-      const double* p = xs + 3 * static_cast<size_t>(b.support[0][s]);
+      const double* p = xs + 3 * static_cast<size_t>(sup[0][s]);
       X = {splat(p[0]), splat(p[1]), splat(p[2])};
     } else {
       const double* p[kLanes];
-      for (int i = 0; i < kLanes; ++i) p[i] = xs + 3 * static_cast<size_t>(b.support[i][s]);
+      for (int i = 0; i < kLanes; ++i) p[i] = xs + 3 * static_cast<size_t>(sup[i][s]);
       X = {gather([&](int i) { return p[i][0]; }), gather([&](int i) { return p[i][1]; }),
            gather([&](int i) { return p[i][2]; })};
     }
@@ -183,17 +189,17 @@ SF_INLINE void batch_kernel(const shellfrac::shell::Type4Data& d, const shellfra
   const Lanes3 dn1 = inv_len * (dv1 - dot(nrm, dv1) * nrm);
   const Lanes3 dn2 = inv_len * (dv2 - dot(nrm, dv2) * nrm);
 
-  const Lanes given = gather([&](int i) { return b.r33[i]; });
+  const Lanes given = gather([&](int i) { return r33[i]; });
   Lanes3 K1 = zero3(), K2 = zero3(), C1 = zero3(), C2 = zero3();
   Lanes c_new[kType4MaxLayers];  // damage per layer, written back below
   for (size_t l = 0; l < L; ++l) {
     const double xi3 = d.mid_surface ? 0.0 : d.xi3[l];
     const size_t lref = d.mid_surface ? L / 2 : l;
     const ReferenceLayer* rl[kLanes];
-    for (int i = 0; i < kLanes; ++i) rl[i] = &d.ref[b.q[i] * L + lref];
+    for (int i = 0; i < kLanes; ++i) rl[i] = &d.ref[q[i] * L + lref];
     Lanes ref[4] = {gather([&](int i) { return rl[i]->g11; }), gather([&](int i) { return rl[i]->g12; }),
                     gather([&](int i) { return rl[i]->g22; }), gather([&](int i) { return rl[i]->sqrt_det; })};
-    const Lanes V = gather([&](int i) { return d.volume[b.q[i] * L + l]; });
+    const Lanes V = gather([&](int i) { return d.volume[q[i] * L + l]; });
     const Lanes3 g1 = a1 + xi3 * dn1, g2 = a2 + xi3 * dn2;
     LaneStress st = lane_in_plane_stress(g1, g2, ref, d.mu, d.lambda, d.model, given);
     if (d.plastic) {
@@ -206,19 +212,19 @@ SF_INLINE void batch_kernel(const shellfrac::shell::Type4Data& d, const shellfra
       const Lanes c11 = dot(g1, g1), c12 = dot(g1, g2), c22 = dot(g2, g2);
       const Lanes trace = sc.t11 * c11 + 2.0 * sc.t12 * c12 + sc.t22 * c22;
       const Lanes det = (sc.t11 * sc.t22 - sc.t12 * sc.t12) * (c11 * c22 - c12 * c12);
-      const Lanes alpha = gather([&](int i) { return d.plastic_strain[b.q[i] * L + l]; });
+      const Lanes alpha = gather([&](int i) { return d.plastic_strain[q[i] * L + l]; });
       const Lanes limit = d.plasticity.yield_stress + d.plasticity.hardening * alpha;
       const LaneMask near = sc.ok & ~failed & (trace * trace - 3.0 * det > (1.0 - 1e-8) * (limit * limit));
       bool yielded = false;
       if (any(near)) {
         for (int i = 0; i < kLanes; ++i) {
-          if (!near[i] || !((b.active >> i) & 1u)) continue;
+          if (!near[i] || !((active >> i) & 1u)) continue;
           double p1[3], p2[3];
           lane_of(g1, i, p1);
           lane_of(g2, i, p2);
-          if (detail::type4_return_map_lane(d, p1, p2, b.q[i] * L + l)) {
+          if (detail::type4_return_map_lane(d, p1, p2, q[i] * L + l)) {
             yielded = true;
-            const ReferenceLayer& r = d.ref[b.q[i] * L + lref];
+            const ReferenceLayer& r = d.ref[q[i] * L + lref];
             ref[0].set(i, r.g11);
             ref[1].set(i, r.g12);
             ref[2].set(i, r.g22);
@@ -234,9 +240,9 @@ SF_INLINE void batch_kernel(const shellfrac::shell::Type4Data& d, const shellfra
     runaway = runaway | (undecided & st.ok & (st.J > kRunawayAreaRatio));
     Lanes t11 = st.t11, t12 = st.t12, t22 = st.t22;
     if (d.fracturing) {
-      const Lanes sigma_f = gather([&](int i) { return d.failure_stress[b.q[i]]; });
-      const Lanes H = gather([&](int i) { return d.brittleness[b.q[i]]; });
-      const Lanes c_old = gather([&](int i) { return d.damage[b.q[i] * L + l]; });
+      const Lanes sigma_f = gather([&](int i) { return d.failure_stress[q[i]]; });
+      const Lanes H = gather([&](int i) { return d.brittleness[q[i]]; });
+      const Lanes c_old = gather([&](int i) { return d.damage[q[i] * L + l]; });
       const Lanes Jsafe = select(st.ok, st.J, splat(1.0));
       const Lanes normal = d.plane_strain ? d.lambda * vlog(Jsafe) : splat(0.0);
       const Lanes lambda3 = d.model == TransverseModel::Given ? given : vexp(st.ln_lambda3);
@@ -253,10 +259,10 @@ SF_INLINE void batch_kernel(const shellfrac::shell::Type4Data& d, const shellfra
 
   // Per lane status; state write-back for the active lanes that did not fail.
   for (int i = 0; i < kLanes; ++i) {
-    out.status[i] = failed[i] ? kType4Degenerate : runaway[i] ? kType4Runaway : kType4Ok;
-    if (!((b.active >> i) & 1u) || out.status[i] != kType4Ok || !d.fracturing) continue;
+    status[i] = failed[i] ? kType4Degenerate : runaway[i] ? kType4Runaway : kType4Ok;
+    if (!((active >> i) & 1u) || status[i] != kType4Ok || !d.fracturing) continue;
     for (size_t l = 0; l < L; ++l) {
-      const size_t ql = b.q[i] * L + l;
+      const size_t ql = q[i] * L + l;
       const double c = c_new[l][i];
       d.damage[ql] = c;
       if (c > d.damage_history[ql]) d.damage_history[ql] = c;
@@ -287,8 +293,14 @@ SF_INLINE void batch_kernel(const shellfrac::shell::Type4Data& d, const shellfra
     const Lanes fx = -(r1 * ga1.x + r2 * ga2.x + r11 * ga11.x + r12 * ga12.x + r22 * ga22.x);
     const Lanes fy = -(r1 * ga1.y + r2 * ga2.y + r11 * ga11.y + r12 * ga12.y + r22 * ga22.y);
     const Lanes fz = -(r1 * ga1.z + r2 * ga2.z + r11 * ga11.z + r12 * ga12.z + r22 * ga22.z);
-    __builtin_memcpy(out.force[s][0], &fx, sizeof(Lanes));
-    __builtin_memcpy(out.force[s][1], &fy, sizeof(Lanes));
-    __builtin_memcpy(out.force[s][2], &fz, sizeof(Lanes));
+    __builtin_memcpy(out.force[s][0] + o, &fx, sizeof(Lanes));
+    __builtin_memcpy(out.force[s][1] + o, &fy, sizeof(Lanes));
+    __builtin_memcpy(out.force[s][2] + o, &fz, sizeof(Lanes));
   }
+}
+
+SF_INLINE void batch_kernel(const shellfrac::shell::Type4Data& d, const shellfrac::shell::Type4Batch& b,
+                            shellfrac::shell::Type4BatchResult& out) {
+  static_assert(shellfrac::shell::kType4Lanes % kLanes == 0, "a batch is a whole number of lane groups");
+  for (int o = 0; o < shellfrac::shell::kType4Lanes; o += kLanes) half_batch(d, b, out, o);
 }
