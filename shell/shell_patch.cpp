@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <limits>
 #include <cmath>
 #include <stdexcept>
@@ -313,7 +314,17 @@ ForceFailure ShellPatch::compute_forces() {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, num_cells_, 16), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t c = r.begin(); c != r.end(); ++c)
       for (size_t s = 0; s < n; ++s) cell_force_[c * n + s].setZero();
-    auto r33_of = [&](size_t c) { return with_director ? director_stretch(c) : 1.0; };  // Jiang 2017: J = J_2D r_33
+    // Jiang 2017: J = J_2D r_33, one QR per cell (the last cell's value is kept for its other points).
+    size_t r33_cell = SIZE_MAX;
+    double r33_value = 1.0;
+    auto r33_of = [&](size_t c) {
+      if (!with_director) return 1.0;
+      if (c != r33_cell) {
+        r33_cell = c;
+        r33_value = director_stretch(c);
+      }
+      return r33_value;
+    };
     // A point the batches leave to the scalar code: MLS supports (any fallback level with stress) or all
     // points when the scalar kernel is chosen. Rigid and removed slivers carry no stress.
     auto scalar_point = [&](size_t q) {
