@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <limits>
 #include <cmath>
 #include <stdexcept>
@@ -27,6 +28,7 @@ ShellPatch::ShellPatch(const nurbs::NurbsSurface& reference, const ShellMaterial
   v.assign(x.size(), Vec3::Zero());
   force.assign(x.size(), Vec3::Zero());
   build_quadrature(rule);
+  build_basis_lanes();
   build_masses();
   build_force_gather();
   build_shear_particles();
@@ -258,92 +260,152 @@ ShellPatch::BasisView ShellPatch::point_basis(size_t q) const {
   return {support_size_, support(c), &basis_[q * static_cast<size_t>(support_size_) * kBasisStride], kBasisStride};
 }
 
-ForceFailure ShellPatch::compute_forces() {
-  const size_t L = layers_.xi3.size();
-  const double mu = material_.mu, lambda = material_.lambda;
+void ShellPatch::build_basis_lanes() {
+  const size_t n = static_cast<size_t>(support_size_), points = param_.size();
+  const size_t batches = (points + kType4Lanes - 1) / kType4Lanes;
+  basis_lanes_.assign(batches * n * 5 * kType4Lanes, 0.0);
+  for (size_t q = 0; q < points; ++q) {
+    const size_t batch = q / kType4Lanes, lane = q % kType4Lanes;
+    for (size_t s = 0; s < n; ++s)
+      for (size_t k = 0; k < 5; ++k)
+        basis_lanes_[((batch * n + s) * 5 + k) * kType4Lanes + lane] = basis_[(q * n + s) * kBasisStride + 1 + k];
+  }
+}
+
+Type4Data ShellPatch::type4_data() {
   const StressModel stress_model = material_.stress_model;
-  const bool plane_strain = stress_model == StressModel::PlaneStrain;
   const bool with_director = stress_model == StressModel::DirectorF2D;
-  const bool mid_surface = stress_model == StressModel::MidSurface2D || with_director;
-  const TransverseModel model = stress_model == StressModel::KirchhoffLove ? material_.transverse
-                                : with_director                         ? TransverseModel::Given
-                                                                        : TransverseModel::Rigid;
-  const bool plastic = material_.plasticity.enabled;
-  const bool fracturing = !damage_.empty();
-  const bool monotone = material_.fracture.rule == DamageRule::Monotone;
+  Type4Data d;
+  d.mu = material_.mu;
+  d.lambda = material_.lambda;
+  d.model = stress_model == StressModel::KirchhoffLove ? material_.transverse
+            : with_director                         ? TransverseModel::Given
+                                                    : TransverseModel::Rigid;
+  d.plane_strain = stress_model == StressModel::PlaneStrain;
+  d.mid_surface = stress_model == StressModel::MidSurface2D || with_director;
+  d.plastic = material_.plasticity.enabled;
+  d.plasticity = material_.plasticity;
+  d.fracturing = !damage_.empty();
+  d.monotone = material_.fracture.rule == DamageRule::Monotone;
+  d.layers = num_layers();
+  d.xi3 = layers_.xi3.data();
+  d.x = x.data();
+  d.ref = ref_.data();
+  d.volume = volume_.data();
+  d.plastic_strain = plastic_strain_.data();
+  d.damage = damage_.data();
+  d.damage_history = damage_history_.data();
+  d.failure_stress = failure_stress_.data();
+  d.brittleness = brittleness_.data();
+  return d;
+}
+
+ForceFailure ShellPatch::compute_forces() {
+  const Type4Data data = type4_data();
+  const bool with_director = material_.stress_model == StressModel::DirectorF2D;
+  const bool batched = force_kernel_ == ForceKernel::Batched && num_layers() <= kType4MaxLayers;
+  const size_t n = static_cast<size_t>(support_size_), nq = param_.size();
   std::vector<unsigned char> cell_failed(num_cells_, 0);
   for (MlsSupport& m : slots_)
     for (Vec3& f : m.force) f.setZero();
 
+  // Per cell: the Type IV forces of its points (cell slots for NURBS points, MLS supports' own slots
+  // otherwise), then its Type III force. Each cell's slots are summed in point order, whichever kernel runs,
+  // and no lane depends on the others, so the forces do not depend on the partition into threads.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, num_cells_, 16), [&](const tbb::blocked_range<size_t>& r) {
-    std::vector<const Vec3*> pts;
-    for (size_t c = r.begin(); c != r.end(); ++c) {
-      Vec3* cell_out = &cell_force_[c * static_cast<size_t>(support_size_)];
-      for (int s = 0; s < support_size_; ++s) cell_out[s].setZero();
-      const double r33 = with_director ? director_stretch(c) : 1.0;  // Jiang 2017: J = J_2D r_33
-      for (size_t q = c * points_per_cell_; q < (c + 1) * points_per_cell_; ++q) {
-        // Fallback levels (docs/mls.md): a rigid or removed sliver carries no stress; a linear basis has
-        // no curvature, so every layer sees the mid-surface metric (membrane only).
-        const int32_t slot = point_slot_[q];
-        const MlsSupport* ms = slot >= 0 ? &slots_[static_cast<size_t>(slot)] : nullptr;
-        if (ms && ms->level >= BasisLevel::Rigid) continue;
-        const bool membrane = mid_surface || (ms && ms->order == 1);
-        const BasisView b = point_basis(q);
-        Vec3* force = point_force_target(q);
-        pts.resize(static_cast<size_t>(b.n));
-        for (int s = 0; s < b.n; ++s) pts[static_cast<size_t>(s)] = &x[static_cast<size_t>(b.index[s])];
-        const SurfaceJet jet = surface_jet(pts.data(), b.basis + 1, b.n, kBasisStride);
-        NormalJet nj;
-        if (!normal_jet(jet, nj)) {
-          cell_failed[c] = 1;
-          break;
+    for (size_t c = r.begin(); c != r.end(); ++c)
+      for (size_t s = 0; s < n; ++s) cell_force_[c * n + s].setZero();
+    // Jiang 2017: J = J_2D r_33, one QR per cell (the last cell's value is kept for its other points).
+    size_t r33_cell = SIZE_MAX;
+    double r33_value = 1.0;
+    auto r33_of = [&](size_t c) {
+      if (!with_director) return 1.0;
+      if (c != r33_cell) {
+        r33_cell = c;
+        r33_value = director_stretch(c);
+      }
+      return r33_value;
+    };
+    // A point the batches leave to the scalar code: MLS supports (any fallback level with stress) or all
+    // points when the scalar kernel is chosen. Rigid and removed slivers carry no stress.
+    auto scalar_point = [&](size_t q) {
+      const size_t c = cell_of(q);
+      const int32_t slot = point_slot_[q];
+      const MlsSupport* ms = slot >= 0 ? &slots_[static_cast<size_t>(slot)] : nullptr;
+      if (ms && ms->level >= BasisLevel::Rigid) return;
+      const BasisView b = point_basis(q);
+      // A linear basis has no curvature: every layer sees the mid-surface metric (membrane only).
+      const bool membrane = ms && ms->order == 1;
+      const Type4Status st = type4_point_force(data, q, {b.n, b.index, b.basis}, membrane, r33_of(c), point_force_target(q));
+      if (st != kType4Ok) cell_failed[c] = static_cast<unsigned char>(st);
+    };
+    const size_t q_begin = r.begin() * points_per_cell_, q_end = r.end() * points_per_cell_;
+    if (!batched) {
+      for (size_t q = q_begin; q < q_end; ++q)
+        if (!cell_failed[cell_of(q)]) scalar_point(q);
+    } else {
+      Type4Batch batch;
+      batch.n = support_size_;
+      Type4BatchResult result;
+      // Batches of the fixed grouping (8 consecutive points); one that straddles the range's ends runs
+      // only the lanes inside it.
+      for (size_t first = q_begin - q_begin % kType4Lanes; first < q_end; first += kType4Lanes) {
+        batch.active = 0;
+        batch.basis = &basis_lanes_[first / kType4Lanes * n * 5 * kType4Lanes];
+        const size_t fill = q_begin > first ? q_begin : first;  // a valid point for the inactive lanes
+        size_t lane_cell[kType4Lanes];
+        for (int i = 0; i < kType4Lanes; ++i) {
+          const size_t q = first + static_cast<size_t>(i);
+          const bool inside = q >= q_begin && q < q_end && q < nq;
+          const size_t lane_q = inside ? q : fill;
+          if (inside && point_slot_[q] < 0) batch.active |= 1u << i;
+          batch.q[i] = lane_q;
+          lane_cell[i] = cell_of(lane_q);
+          batch.support[i] = support(lane_cell[i]);
+          batch.r33[i] = 1.0;
         }
-        // dPsi/dg_alpha summed over layers (K) and weighted by xi3 (C); the KL in-plane stress has no
-        // g_3 component, so dPsi/dg_3 = 0 (thesis Eq. 4.14).
-        Vec3 K1 = Vec3::Zero(), K2 = Vec3::Zero(), C1 = Vec3::Zero(), C2 = Vec3::Zero();
-        for (size_t l = 0; l < L; ++l) {
-          // The 2D mid-surface model sees the mid-surface metric at every layer (no bending); so does a
-          // membrane-only point, against the mid-surface rest metric (its own layer's when plastic).
-          const double xi3 = membrane ? 0.0 : layers_.xi3[l];
-          const ReferenceLayer& ref = ref_[q * L + (mid_surface || (membrane && !plastic) ? L / 2 : l)];
-          const Vec3 g1 = jet.a1 + xi3 * nj.dn1, g2 = jet.a2 + xi3 * nj.dn2;
-          // Plastic materials: return-map the current (trial) state first; it needs the same kinematics.
-          if (plastic)
-            von_mises_return(g1, g2, mu, lambda, material_.plasticity, ref_[q * L + l], plastic_strain_[q * L + l]);
-          const InPlaneStress st = neo_hookean_in_plane(g1, g2, ref, mu, lambda, model, r33);
-          if (!st.ok) {
-            cell_failed[c] = 1;
-            break;
+        if (!batch.active) continue;
+        batch.shared_support = true;
+        for (int i = 1; i < kType4Lanes; ++i) batch.shared_support &= batch.support[i] == batch.support[0];
+        if (with_director)
+          for (int i = 0; i < kType4Lanes; ++i) batch.r33[i] = r33_of(lane_cell[i]);
+        type4_force_batch(data, batch, result);
+        // Scatter, one run of lanes per cell: a full batch by a fixed pairwise sum, a partial one lane by lane
+        // in point order. Either order is fixed by the data, so the sums do not depend on the threads.
+        for (int i = 0; i < kType4Lanes;) {
+          const size_t c = lane_cell[i];
+          int lanes[kType4Lanes], count = 0, end = i;
+          for (; end < kType4Lanes && lane_cell[end] == c; ++end) {
+            if (!((batch.active >> end) & 1u) || cell_failed[c]) continue;
+            if (result.status[end] != kType4Ok)
+              cell_failed[c] = static_cast<unsigned char>(result.status[end]);
+            else
+              lanes[count++] = end;
           }
-          if (st.J > kRunawayAreaRatio) {  // no sheet survives this intact: the explicit step has diverged
-            cell_failed[c] = 3;
-            break;
+          i = end;
+          if (cell_failed[c] || !count) continue;
+          double* out = cell_force_[c * n].data();  // n packed Vec3
+          if (count == kType4Lanes) {  // a whole batch in one cell: a fixed pairwise sum (no serial chain)
+            for (size_t s = 0; s < n; ++s)
+              for (int k = 0; k < 3; ++k) {
+                const double* f = result.force[s][k];
+                out[3 * s + static_cast<size_t>(k)] += ((f[0] + f[1]) + (f[2] + f[3])) + ((f[4] + f[5]) + (f[6] + f[7]));
+              }
+            continue;
           }
-          InPlaneTensor tau{st.t11, st.t12, st.t22};
-          // Plane strain keeps the transverse normal stress tau^33 = lambda ln J on g_3 = a_3. It does no
-          // work (dPsi/dg_3 is parallel to the unit normal, whose variations are normal to it), so it
-          // matters only as a principal stress of the damage criterion.
-          double tau33 = plane_strain ? lambda * std::log(st.J) : 0.0;
-          if (fracturing)
-            tau = damaged_stress(tau, g1, g2, st.J * st.lambda3, q, q * L + l, monotone, plane_strain ? &tau33 : nullptr);
-          // dPsi/dg_alpha = V tau^{alpha beta} g_beta (P~ : dF = tau^{ab} g_b . dg_a)
-          const double V = volume_[q * L + l];
-          const Vec3 k1 = V * (tau.t11 * g1 + tau.t12 * g2);
-          const Vec3 k2 = V * (tau.t12 * g1 + tau.t22 * g2);
-          K1 += k1;
-          K2 += k2;
-          C1 += xi3 * k1;
-          C2 += xi3 * k2;
-        }
-        if (cell_failed[c]) break;
-        const JetGradient gr = kl_basis_adjoint(jet, nj, K1, K2, C1, C2, Vec3::Zero());
-        for (int s = 0; s < b.n; ++s) {
-          const double* ds = b.basis + s * kBasisStride;
-          force[s] -= ds[1] * gr.a1 + ds[2] * gr.a2 + ds[3] * gr.a11 + ds[4] * gr.a12 + ds[5] * gr.a22;
+          for (size_t s = 0; s < n; ++s)
+            for (int k = 0; k < 3; ++k) {
+              double sum = out[3 * s + static_cast<size_t>(k)];
+              for (int j = 0; j < count; ++j) sum += result.force[s][k][lanes[j]];
+              out[3 * s + static_cast<size_t>(k)] = sum;
+            }
         }
       }
-      if (!cell_failed[c] && !add_shear_force(c)) cell_failed[c] = 2;
+      for (size_t q = q_begin; q < q_end; ++q)
+        if (point_slot_[q] >= 0 && !cell_failed[cell_of(q)]) scalar_point(q);
     }
+    for (size_t c = r.begin(); c != r.end(); ++c)
+      if (!cell_failed[c] && !add_shear_force(c)) cell_failed[c] = 2;
   });
 
   ForceFailure failure;
@@ -400,21 +462,6 @@ bool ShellPatch::add_shear_force(size_t c) {
 
 double ShellPatch::parameter_spacing() const {
   return std::min(control_grid_.cell_u, control_grid_.cell_v) / std::sqrt(static_cast<double>(points_per_cell_));
-}
-
-InPlaneTensor ShellPatch::damaged_stress(const InPlaneTensor& tau, const Vec3& g1, const Vec3& g2, double detF,
-                                        size_t q, size_t ql, bool monotone, double* tau33) {
-  // Effective stress: the largest principal Cauchy stress of the undamaged trial state (thesis sec.
-  // 4.4.1). The in-plane stress has a zero transverse principal value, so it is at least 0; plane strain
-  // has tau^33 there instead (g_3 = a_3 is a unit principal direction).
-  const double normal = tau33 ? *tau33 : 0.0;
-  const double effective = std::max(normal, largest_principal(tau, g1, g2)) / detF;
-  double c = rankine_damage(effective, failure_stress_[q], brittleness_[q]);  // thesis Eq. 2.28
-  if (monotone) c = std::max(c, damage_[ql]);  // conventional rule, kept for comparison
-  damage_[ql] = c;                              // healing rule: c^{n+1} = cbar
-  damage_history_[ql] = std::max(damage_history_[ql], c);
-  if (tau33 && *tau33 > 0) *tau33 *= 1.0 - c;
-  return c > 0 ? weaken_tensile_part(tau, g1, g2, c) : tau;  // thesis Eq. 2.29-2.31
 }
 
 std::vector<unsigned char> ShellPatch::fully_damaged_points() const {

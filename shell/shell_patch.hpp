@@ -17,14 +17,12 @@
 #include "shell/quadrature.hpp"
 #include "shell/shear_model.hpp"
 #include "shell/stress_model.hpp"
+#include "shell/type4_kernel.hpp"
 
 namespace shellfrac::shell {
 
 using Vec2 = Eigen::Vector2d;
 
-// In-plane area ratio J above which a layer point is taken as numerical divergence, not deformation:
-// a sheet stretched 30 times in length would have torn long before (compute_forces reports it).
-inline constexpr double kRunawayAreaRatio = 1000.0;
 
 // Material constants a shell patch needs for its forces.
 struct ShellMaterial {
@@ -96,6 +94,11 @@ struct ForceFailure {
   std::string reason;
 };
 
+// Which implementation of the Type IV force compute_forces uses (shell/type4_kernel.hpp). Batched: NURBS
+// points eight at a time in vector lanes, MLS points by the scalar code; Scalar: every point by the scalar
+// reference (for tests and comparisons). The two agree to round-off.
+enum class ForceKernel { Batched, Scalar };
+
 // One NURBS patch of a Kirchhoff-Love shell, discretised as in thesis sec. 4.3:
 //  - Type II particles: the control points (position, velocity, lumped mass) — the advected DOFs;
 //  - Type IV particles: massless quadrature points, a stencil per cell on 1 or 3 layers, whose basis
@@ -132,6 +135,8 @@ class ShellPatch {
   // For plastic materials each layer point is first return-mapped at the current (trial) state: the
   // return mapping needs the same kinematics as the stress, so it shares this pass.
   ForceFailure compute_forces();
+  void set_force_kernel(ForceKernel k) { force_kernel_ = k; }
+  ForceKernel force_kernel() const { return force_kernel_; }
   // After the control points moved: Type III positions (Eq. 4.10), director advection
   // d_3 <- (I + dt grad v) d_3, and the shear return mapping.
   void update_shear_particles(double dt);
@@ -292,10 +297,10 @@ class ShellPatch {
   bool nurbs_support_cut(const Vec2& xi, size_t cell, const crack2d::CrackIndex& index) const;
   void rebuild_mls_gather();
   BasisStiffness compute_basis_stiffness() const;
-  // Damage update and tensile weakening of one layer point's in-plane Kirchhoff stress (thesis 4.4.1).
-  // With plane strain, tau33 (the transverse normal stress tau^33) joins the principal split.
-  InPlaneTensor damaged_stress(const InPlaneTensor& tau, const Vec3& g1, const Vec3& g2, double detF, size_t q,
-                               size_t ql, bool monotone, double* tau33 = nullptr);
+  // The patch's arrays and constants as the Type IV kernels read them.
+  Type4Data type4_data();
+  // Lays the NURBS basis derivatives out in lanes of eight consecutive points (basis_lanes_).
+  void build_basis_lanes();
   // Position of shear particle c (thesis Eq. 4.10) and the surface tangents a_1, a_2 there.
   Vec3 shear_particle_frame(size_t c, Vec3& a1, Vec3& a2) const;
   // R of the QR decomposition of cell c's Type III F = [a_1 a_2 d_3] D^-1.
@@ -310,6 +315,10 @@ class ShellPatch {
   std::vector<Vec2> param_;         // in-plane points, grouped by cell
   std::vector<Vec2> cell_center_;   // parameter centre of each cell
   std::vector<double> basis_;       // in-plane points x support x {R, R1, R2, R11, R12, R22}
+  // The same NURBS derivatives R_1 .. R_22 for the batched kernel: batch of 8 consecutive points x support x
+  // 5 x 8 lanes (Type4Batch::basis); the last batch is padded with zeros.
+  std::vector<double> basis_lanes_;
+  ForceKernel force_kernel_ = ForceKernel::Batched;
   std::vector<ReferenceLayer> ref_; // in-plane points x layers: rest metric (rewritten by plasticity)
   std::vector<double> plastic_strain_;  // in-plane points x layers, only for plastic materials
   std::vector<double> volume_;      // in-plane points x layers: V_q

@@ -1,0 +1,306 @@
+// The batched Type IV force kernel: eight NURBS quadrature points per call, one per lane, every
+// per-point formula of type4_point_force (shell/type4_kernel.cpp) written on lanes. Included by
+// type4_batch_generic.cpp and type4_batch_avx2.cpp, each inside an anonymous namespace and compiled with
+// its own instruction set; defines the file-local entry point `batch_kernel`.
+//
+// Differences from the scalar reference are round-off only: ln and e^x are the lane versions of
+// simd_lanes.hpp (a few ulp), products may be fused, the condensed fibre stretch iterates on its logarithm
+// (lane_log_fibre_stretch), and the von Mises return runs the scalar code for the lanes whose trial stress
+// is within 1e-8 of the yield surface or beyond it.
+
+#include "shell/simd_lanes.hpp"
+
+// Lane l of a Lanes3 as a plain array.
+SF_INLINE void lane_of(const Lanes3& v, int l, double out[3]) {
+  out[0] = v.x[l];
+  out[1] = v.y[l];
+  out[2] = v.z[l];
+}
+
+// Metric invariants and the in-plane Neo-Hookean Kirchhoff stress of one layer (neo_hookean_in_plane).
+struct LaneStress {
+  Lanes t11, t12, t22;
+  Lanes J;
+  Lanes ln_lambda3;  // ln of the fibre stretch (its value is needed only by the damage criterion)
+  LaneMask ok;
+};
+
+// Condensed fibre stretch (condensed_fibre_stretch): the same root of mu (l^2 - 1) + lambda ln(J l) = 0,
+// found by Newton on s = ln l instead of l, h(s) = mu (e^{2s} - 1) + lambda (s + ln J), which is convex and
+// increasing: one e^x and one division per iteration instead of a logarithm and two divisions, and ln(J l)
+// = ln J + s for the pressure needs no further logarithm. Start: the root's expansion to second order in
+// x = ln J, s = a x + b x^2 with a = -lambda/(2 mu + lambda), b = -2 mu a^2/(2 mu + lambda). A lane stops
+// after the step that moved it by at most 1e-8: the Newton error is then below (h''/2h') 1e-16 <= 1e-16
+// (h''/2h' = 2 mu e^{2s}/(2 mu e^{2s} + lambda) <= 1), the scalar loop's 1e-15 relative. Returns s = ln l3.
+SF_INLINE Lanes lane_log_fibre_stretch(const Lanes& lnJ, double mu, double lambda) {
+  const double a = -lambda / (2.0 * mu + lambda), b = -2.0 * mu * a * a / (2.0 * mu + lambda);
+  Lanes s = lnJ * (a + b * lnJ);
+  LaneMask done = splat_int(0);
+  for (int it = 0; it < 30; ++it) {
+    const Lanes e2s = vexp(2.0 * s);
+    const Lanes h = mu * (e2s - 1.0) + lambda * (s + lnJ);
+    const Lanes step = h / ((2.0 * mu) * e2s + lambda);
+    s = select(done, s, s - step);
+    done = done | (vabs(step) <= 1e-8);
+    if (all(done)) break;
+  }
+  return s;
+}
+
+SF_INLINE LaneStress lane_in_plane_stress(const Lanes3& g1, const Lanes3& g2, const Lanes ref[4], double mu,
+                                          double lambda, shellfrac::shell::TransverseModel model, Lanes given) {
+  using shellfrac::shell::TransverseModel;
+  LaneStress s;
+  const Lanes c11 = dot(g1, g1), c12 = dot(g1, g2), c22 = dot(g2, g2);
+  const Lanes det = c11 * c22 - c12 * c12;
+  s.J = vsqrt(det) / ref[3];
+  // det > 0, J > 0 and finite (the scalar checks); NaN fails every comparison.
+  s.ok = (det > 0.0) & (s.J > 0.0) & (s.J < __builtin_inf());
+  const Lanes Jsafe = select(s.ok, s.J, splat(1.0));  // keep masked lanes finite in the iterations
+  const Lanes inv = 1.0 / det;
+  const Lanes i11 = c22 * inv, i12 = -c12 * inv, i22 = c11 * inv;  // deformed g^{ab}
+  const Lanes lnJ = vlog(Jsafe);
+  Lanes ln_detF;  // ln(J lambda_3)
+  switch (model) {
+    case TransverseModel::Condensed: {
+      const Lanes ln_l3 = lane_log_fibre_stretch(lnJ, mu, lambda);
+      s.ln_lambda3 = ln_l3;
+      ln_detF = lnJ + ln_l3;
+      break;
+    }
+    case TransverseModel::Given:
+      s.ln_lambda3 = splat(0.0);  // unused: the damage criterion takes `given` itself
+      ln_detF = vlog(Jsafe * given);
+      break;
+    case TransverseModel::Rigid:
+      s.ln_lambda3 = splat(0.0);
+      ln_detF = lnJ;
+      break;
+  }
+  const Lanes p = lambda * ln_detF;
+  s.t11 = mu * (ref[0] - i11) + p * i11;
+  s.t12 = mu * (ref[1] - i12) + p * i12;
+  s.t22 = mu * (ref[2] - i22) + p * i22;
+  return s;
+}
+
+// Orthonormal in-plane frame e_1 = g_1/|g_1| (damage.cpp): E = [[e11, e12], [0, e22]].
+struct LaneFrame {
+  Lanes e11, e12, e22;
+};
+SF_INLINE LaneFrame lane_frame(const Lanes3& g1, const Lanes3& g2) {
+  LaneFrame f;
+  f.e11 = vsqrt(dot(g1, g1));
+  f.e12 = dot(g1, g2) / f.e11;
+  f.e22 = vsqrt(vmax(splat(0.0), dot(g2, g2) - f.e12 * f.e12));
+  return f;
+}
+
+// Rankine damage (thesis Eq. 2.28) and tensile weakening (Eq. 2.29-2.31) on lanes; c_old: the stored damage
+// (used by the monotone rule); returns c in `c_out`.
+SF_INLINE void lane_damage(Lanes& t11, Lanes& t12, Lanes& t22, const Lanes3& g1, const Lanes3& g2, Lanes detF,
+                           Lanes normal, Lanes sigma_f, Lanes H, Lanes c_old, bool monotone, Lanes& c_out) {
+  const LaneFrame f = lane_frame(g1, g2);
+  // local components s = E T E^T
+  const Lanes a11 = f.e11 * t11 + f.e12 * t12, a12 = f.e11 * t12 + f.e12 * t22, a22 = f.e22 * t22;
+  const Lanes s11 = a11 * f.e11 + a12 * f.e12, s12 = a12 * f.e22, s22 = a22 * f.e22;
+  const Lanes m = 0.5 * (s11 + s22), dd = 0.5 * (s11 - s22);
+  const Lanes r = vsqrt(dd * dd + s12 * s12);
+  const Lanes largest = m + r;
+  const Lanes effective = vmax(normal, largest) / detF;
+  // 0 below sigma_f (and for NaN), 1 beyond sigma_f (1 + 1/H), linear softening between.
+  const Lanes soft = vmin(splat(1.0), (1.0 + H) * (1.0 - sigma_f / effective));
+  Lanes c = select(effective >= sigma_f * (1.0 + 1.0 / H), splat(1.0), soft);
+  c = select(effective > sigma_f, c, splat(0.0));
+  if (monotone) c = vmax(c, c_old);
+  c_out = c;
+  const LaneMask damaged = c > 0.0;
+  if (!any(damaged)) return;
+  // principal values l1 >= l2 and the unit eigenvector (cs, sn) of l1
+  Lanes l1 = largest, l2 = m - r;
+  const LaneMask d_pos = dd > 0.0;
+  const Lanes vx = select(d_pos, l1 - s22, s12), vy = select(d_pos, s12, l1 - s11);
+  const Lanes nrm = vsqrt(vx * vx + vy * vy);
+  const LaneMask round = r <= 1e-300;
+  const Lanes cs = select(round, splat(1.0), vx / nrm), sn = select(round, splat(0.0), vy / nrm);
+  l1 = select(l1 > 0.0, l1 * (1.0 - c), l1);
+  l2 = select(l2 > 0.0, l2 * (1.0 - c), l2);
+  const Lanes w11 = l1 * cs * cs + l2 * sn * sn;
+  const Lanes w12 = (l1 - l2) * cs * sn;
+  const Lanes w22 = l1 * sn * sn + l2 * cs * cs;
+  const Lanes i11 = 1.0 / f.e11, i22 = 1.0 / f.e22, i12 = -f.e12 / (f.e11 * f.e22);
+  const Lanes b11 = i11 * w11 + i12 * w12, b12 = i11 * w12 + i12 * w22, b22 = i22 * w22;
+  t11 = select(damaged, b11 * i11 + b12 * i12, t11);
+  t12 = select(damaged, b12 * i22, t12);
+  t22 = select(damaged, b22 * i22, t22);
+}
+
+// Lanes o .. o + kLanes - 1 of the batch.
+SF_INLINE void half_batch(const shellfrac::shell::Type4Data& d, const shellfrac::shell::Type4Batch& b,
+                          shellfrac::shell::Type4BatchResult& out, int o) {
+  using namespace shellfrac::shell;
+  const size_t* q = b.q + o;
+  const int* const* sup = b.support + o;
+  const double* r33 = b.r33 + o;
+  const unsigned active = b.active >> o;
+  int* status = out.status + o;
+  const int n = b.n;
+  const size_t L = static_cast<size_t>(d.layers);
+  const double* B = b.basis;
+  auto basis = [&](int s, int k) {
+    Lanes v;
+    __builtin_memcpy(&v, B + (s * 5 + k) * kType4Lanes + o, sizeof(Lanes));
+    return v;
+  };
+
+  // Control point positions as raw doubles (Vec3 is three packed doubles): no Eigen code is instantiated
+  // in this translation unit.
+  const double* xs = reinterpret_cast<const double*>(d.x);
+  static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 must be three packed doubles");
+  // Mid-surface jet a_alpha, x_,alpha beta (thesis Eq. 4.1): sum over the support of basis x position.
+  Lanes3 a1 = zero3(), a2 = zero3(), a11 = zero3(), a12 = zero3(), a22 = zero3();
+  for (int s = 0; s < n; ++s) {
+    Lanes3 X;
+    if (b.shared_support) {
+      const double* p = xs + 3 * static_cast<size_t>(sup[0][s]);
+      X = {splat(p[0]), splat(p[1]), splat(p[2])};
+    } else {
+      const double* p[kLanes];
+      for (int i = 0; i < kLanes; ++i) p[i] = xs + 3 * static_cast<size_t>(sup[i][s]);
+      X = {gather([&](int i) { return p[i][0]; }), gather([&](int i) { return p[i][1]; }),
+           gather([&](int i) { return p[i][2]; })};
+    }
+    a1 = a1 + basis(s, 0) * X;
+    a2 = a2 + basis(s, 1) * X;
+    a11 = a11 + basis(s, 2) * X;
+    a12 = a12 + basis(s, 3) * X;
+    a22 = a22 + basis(s, 4) * X;
+  }
+
+  // Unit normal and its derivatives (normal_jet).
+  const Lanes3 v = cross(a1, a2);
+  const Lanes len = vsqrt(dot(v, v));
+  LaneMask failed = ~(len > 1e-300);
+  LaneMask runaway = splat_int(0);
+  const Lanes inv_len = 1.0 / len;
+  const Lanes3 nrm = inv_len * v;
+  const Lanes3 dv1 = cross(a11, a2) + cross(a1, a12);
+  const Lanes3 dv2 = cross(a12, a2) + cross(a1, a22);
+  const Lanes3 dn1 = inv_len * (dv1 - dot(nrm, dv1) * nrm);
+  const Lanes3 dn2 = inv_len * (dv2 - dot(nrm, dv2) * nrm);
+
+  const Lanes given = gather([&](int i) { return r33[i]; });
+  Lanes3 K1 = zero3(), K2 = zero3(), C1 = zero3(), C2 = zero3();
+  Lanes c_new[kType4MaxLayers];  // damage per layer, written back below
+  for (size_t l = 0; l < L; ++l) {
+    const double xi3 = d.mid_surface ? 0.0 : d.xi3[l];
+    const size_t lref = d.mid_surface ? L / 2 : l;
+    const ReferenceLayer* rl[kLanes];
+    for (int i = 0; i < kLanes; ++i) rl[i] = &d.ref[q[i] * L + lref];
+    Lanes ref[4] = {gather([&](int i) { return rl[i]->g11; }), gather([&](int i) { return rl[i]->g12; }),
+                    gather([&](int i) { return rl[i]->g22; }), gather([&](int i) { return rl[i]->sqrt_det; })};
+    const Lanes V = gather([&](int i) { return d.volume[q[i] * L + l]; });
+    const Lanes3 g1 = a1 + xi3 * dn1, g2 = a2 + xi3 * dn2;
+    LaneStress st = lane_in_plane_stress(g1, g2, ref, d.mu, d.lambda, d.model, given);
+    if (d.plastic) {
+      // Elastic check of von_mises_return on lanes: q^2 = (t1 + t2)^2 - 3 t1 t2 from the invariants of the
+      // mixed tensor, with the condensed stress. Lanes within 1e-8 of the surface or past it run the scalar
+      // return mapping, which decides with its own arithmetic exactly as the reference does.
+      const LaneStress sc = d.model == TransverseModel::Condensed
+                                ? st
+                                : lane_in_plane_stress(g1, g2, ref, d.mu, d.lambda, TransverseModel::Condensed, given);
+      const Lanes c11 = dot(g1, g1), c12 = dot(g1, g2), c22 = dot(g2, g2);
+      const Lanes trace = sc.t11 * c11 + 2.0 * sc.t12 * c12 + sc.t22 * c22;
+      const Lanes det = (sc.t11 * sc.t22 - sc.t12 * sc.t12) * (c11 * c22 - c12 * c12);
+      const Lanes alpha = gather([&](int i) { return d.plastic_strain[q[i] * L + l]; });
+      const Lanes limit = d.plasticity.yield_stress + d.plasticity.hardening * alpha;
+      const LaneMask near = sc.ok & ~failed & (trace * trace - 3.0 * det > (1.0 - 1e-8) * (limit * limit));
+      bool yielded = false;
+      if (any(near)) {
+        for (int i = 0; i < kLanes; ++i) {
+          if (!near[i] || !((active >> i) & 1u)) continue;
+          double p1[3], p2[3];
+          lane_of(g1, i, p1);
+          lane_of(g2, i, p2);
+          if (detail::type4_return_map_lane(d, p1, p2, q[i] * L + l)) {
+            yielded = true;
+            const ReferenceLayer& r = d.ref[q[i] * L + lref];
+            ref[0].set(i, r.g11);
+            ref[1].set(i, r.g12);
+            ref[2].set(i, r.g22);
+            ref[3].set(i, r.sqrt_det);
+          }
+        }
+      }
+      if (yielded) st = lane_in_plane_stress(g1, g2, ref, d.mu, d.lambda, d.model, given);
+    }
+    // The first failing layer decides a lane's status, as the scalar loop returns there.
+    const LaneMask undecided = ~(failed | runaway);
+    failed = failed | (undecided & ~st.ok);
+    runaway = runaway | (undecided & st.ok & (st.J > kRunawayAreaRatio));
+    Lanes t11 = st.t11, t12 = st.t12, t22 = st.t22;
+    if (d.fracturing) {
+      const Lanes sigma_f = gather([&](int i) { return d.failure_stress[q[i]]; });
+      const Lanes H = gather([&](int i) { return d.brittleness[q[i]]; });
+      const Lanes c_old = gather([&](int i) { return d.damage[q[i] * L + l]; });
+      const Lanes Jsafe = select(st.ok, st.J, splat(1.0));
+      const Lanes normal = d.plane_strain ? d.lambda * vlog(Jsafe) : splat(0.0);
+      const Lanes lambda3 = d.model == TransverseModel::Given ? given : vexp(st.ln_lambda3);
+      lane_damage(t11, t12, t22, g1, g2, st.J * lambda3, normal, sigma_f, H, c_old, d.monotone, c_new[l]);
+    }
+    // dPsi/dg_alpha = V tau^{alpha beta} g_beta
+    const Lanes3 k1 = V * (t11 * g1 + t12 * g2);
+    const Lanes3 k2 = V * (t12 * g1 + t22 * g2);
+    K1 = K1 + k1;
+    K2 = K2 + k2;
+    C1 = C1 + xi3 * k1;
+    C2 = C2 + xi3 * k2;
+  }
+
+  // Per lane status; state write-back for the active lanes that did not fail.
+  for (int i = 0; i < kLanes; ++i) {
+    status[i] = failed[i] ? kType4Degenerate : runaway[i] ? kType4Runaway : kType4Ok;
+    if (!((active >> i) & 1u) || status[i] != kType4Ok || !d.fracturing) continue;
+    for (size_t l = 0; l < L; ++l) {
+      const size_t ql = q[i] * L + l;
+      const double c = c_new[l][i];
+      d.damage[ql] = c;
+      if (c > d.damage_history[ql]) d.damage_history[ql] = c;
+    }
+  }
+
+  // Adjoint of the KL basis (kl_basis_adjoint with K3 = 0).
+  auto project = [&](const Lanes3& c) { return inv_len * (c - dot(nrm, c) * nrm); };
+  const Lanes3 g_dv1 = project(C1), g_dv2 = project(C2);
+  const Lanes3 pv1 = project(dv1), pv2 = project(dv2);
+  Lanes3 g_v = zero3();
+  g_v = g_v - inv_len * (dot(nrm, dv1) * g_dv1 + dot(C1, nrm) * pv1 + dot(C1, dn1) * nrm);
+  g_v = g_v - inv_len * (dot(nrm, dv2) * g_dv2 + dot(C2, nrm) * pv2 + dot(C2, dn2) * nrm);
+  Lanes3 ga1 = K1 + cross(a2, g_v);
+  Lanes3 ga2 = K2 + cross(g_v, a1);
+  const Lanes3 ga11 = cross(a2, g_dv1);
+  ga2 = ga2 + cross(g_dv1, a11);
+  ga1 = ga1 + cross(a12, g_dv1);
+  Lanes3 ga12 = cross(g_dv1, a1);
+  ga12 = ga12 + cross(a2, g_dv2);
+  ga2 = ga2 + cross(g_dv2, a12);
+  ga1 = ga1 + cross(a22, g_dv2);
+  const Lanes3 ga22 = cross(g_dv2, a1);
+
+  // Forces on the support: -sum_k R_s,k dPsi/d(jet_k).
+  for (int s = 0; s < n; ++s) {
+    const Lanes r1 = basis(s, 0), r2 = basis(s, 1), r11 = basis(s, 2), r12 = basis(s, 3), r22 = basis(s, 4);
+    const Lanes fx = -(r1 * ga1.x + r2 * ga2.x + r11 * ga11.x + r12 * ga12.x + r22 * ga22.x);
+    const Lanes fy = -(r1 * ga1.y + r2 * ga2.y + r11 * ga11.y + r12 * ga12.y + r22 * ga22.y);
+    const Lanes fz = -(r1 * ga1.z + r2 * ga2.z + r11 * ga11.z + r12 * ga12.z + r22 * ga22.z);
+    __builtin_memcpy(out.force[s][0] + o, &fx, sizeof(Lanes));
+    __builtin_memcpy(out.force[s][1] + o, &fy, sizeof(Lanes));
+    __builtin_memcpy(out.force[s][2] + o, &fz, sizeof(Lanes));
+  }
+}
+
+SF_INLINE void batch_kernel(const shellfrac::shell::Type4Data& d, const shellfrac::shell::Type4Batch& b,
+                            shellfrac::shell::Type4BatchResult& out) {
+  static_assert(shellfrac::shell::kType4Lanes % kLanes == 0, "a batch is a whole number of lane groups");
+  for (int o = 0; o < shellfrac::shell::kType4Lanes; o += kLanes) half_batch(d, b, out, o);
+}
