@@ -29,16 +29,25 @@ Progress::Progress(std::ostream& out, bool interactive, double total, std::strin
       last_draw_(start_) {}
 
 bool Progress::due() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return due_locked();
+}
+
+bool Progress::due_locked() const {
   const double since = std::chrono::duration<double>(std::chrono::steady_clock::now() - last_draw_).count();
   // Short runs log nothing mid-way; the bar is redrawn at most ten times a second.
   return since >= (interactive_ ? 0.1 : log_interval_);
 }
 
 void Progress::update(double done, const std::string& detail) {
-  if (due()) draw(done, detail, false);
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (due_locked()) draw(done, detail, false);
 }
 
-void Progress::finish(const std::string& detail) { draw(total_, detail, true); }
+void Progress::finish(const std::string& detail) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  draw(total_, detail, true);
+}
 
 void Progress::draw(double done, const std::string& detail, bool final) {
   const auto now = std::chrono::steady_clock::now();

@@ -1,13 +1,16 @@
 #pragma once
 #include <chrono>
 #include <iosfwd>
+#include <mutex>
 #include <string>
 
 namespace shellfrac::output {
 
 // Reports progress of a long run on stderr: a redrawn bar with ETA when stderr is a terminal, plain
 // log lines (one every `log_interval` seconds, plus the last) otherwise, so CI logs stay short. The run
-// driver calls update() after every step, so a line comes on time even when no frame is due.
+// driver calls update() after every step, so a line comes on time even when no frame is due; a
+// StepWatchdog (output/step_watchdog.hpp) calls it from its own thread while a step runs long, so every
+// member locks.
 class Progress {
  public:
   Progress(std::ostream& out, bool interactive, double total, std::string unit,
@@ -22,6 +25,7 @@ class Progress {
   static bool stderr_is_terminal();
 
  private:
+  bool due_locked() const;
   void draw(double done, const std::string& detail, bool final);
 
   std::ostream& out_;
@@ -31,6 +35,7 @@ class Progress {
   double log_interval_;
   std::chrono::steady_clock::time_point start_, last_draw_;
   bool drawn_ = false;
+  mutable std::mutex mutex_;
 };
 
 

@@ -15,6 +15,7 @@
 #include "output/mesh_metrics.hpp"
 #include "output/progress.hpp"
 #include "output/seam_metrics.hpp"
+#include "output/step_watchdog.hpp"
 #include "render_mesh/atomic_write.hpp"
 #include "render_mesh/cracked_tessellation.hpp"
 #include "render_mesh/exporter.hpp"
@@ -270,8 +271,11 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
   auto stop_requested = [&] { return interrupt_signal() != 0 || (options.should_stop && options.should_stop()); };
 
   Progress progress(log, options.interactive, model.time.end > 0 ? model.time.end : 1.0, "s");
+  StepWatchdog watchdog(progress);  // progress lines also while a single step or export runs long
+  using Activity = StepWatchdog::Activity;
   bool stopped = false;
   try {
+    watchdog.record(0, 0, last_frame, 0, Activity::writing_frame);
     frames.write(sim, 0);
     for (int f = 1; f <= last_frame && !stopped; ++f) {
       // The steps of sim.advance_to, taken here so that progress, callbacks and interrupts see every
@@ -284,6 +288,7 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
         }
         const double remaining = t - sim.time();
         const double n = std::ceil(remaining / sim.stable_dt() - 1e-9);
+        watchdog.record(sim.time(), f, last_frame, sim.steps(), Activity::stepping);
         sim.step(n <= 1 ? remaining : remaining / n);
         if (options.on_step) options.on_step(StepReport{sim.steps(), sim.time(), model.time.end, f, last_frame});
         if (progress.due())
@@ -293,6 +298,7 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
       if (stopped) break;
       sim.advance_to(t);
       peak_kinetic = std::max(peak_kinetic, sim.kinetic_energy());
+      watchdog.record(sim.time(), f, last_frame, sim.steps(), Activity::writing_frame);
       frames.write(sim, f);
       progress.update(sim.time(), "frame " + std::to_string(f) + "/" + std::to_string(last_frame) + ", step " +
                                       std::to_string(sim.steps()));
