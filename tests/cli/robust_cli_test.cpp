@@ -79,6 +79,53 @@ TEST(CliRobust, ScenesThatCannotBeReadAreExitTwoWithPath) {
   fs::remove_all(d);
 }
 
+// The rest of the issue's list, each through `run`: exit code 2 and a message with the JSON pointer of
+// the value to change, before anything is written. (The library tests check the same refusals in more
+// detail: tests/scene/estimate_test.cpp, strict_input_test.cpp.)
+TEST(CliRobust, HostileScenesOfTheIssueExitTwoWithTheirPath) {
+  const fs::path d = scratch("hostile");
+  const std::string material = R"({"E": 1e5, "nu": 0.3, "density": 300})";
+  auto with_material = [&](const std::string& m) {
+    std::string text = cloth(R"({"end": 1})");
+    return text.replace(text.find(material), material.size(), m);
+  };
+  std::string knots = "[0", net;
+  for (int i = 0; i < 10; ++i) knots += ", 0";
+  for (int i = 0; i < 11; ++i) knots += ", 1";
+  knots += "]";
+  for (int j = 0; j <= 10; ++j)
+    for (int i = 0; i <= 10; ++i) net += std::string(net.empty() ? "" : ", ") + "[" + std::to_string(i) + ", " + std::to_string(j) + ", 0]";
+  std::ofstream(d / "nan.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 nan\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
+  std::ofstream(d / "triangle.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  std::ofstream(d / "tet.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
+  auto mesh_solid = [&](const std::string& file, const std::string& extra) {
+    return R"({"time": {"end": 0.1}, "solids": [{"shape": "mesh", "file": ")" + (d / file).string() + R"(", )" + extra +
+           R"("spacing": 0.05, "material": )" + material + "}]}";
+  };
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {cloth(R"({"end": 1, "cfl": 1e-300})"), "/time/cfl: the run would take about"},
+      {with_material(R"({"E": 1e300, "nu": 0.3, "density": 300})"), "/shells/0/material/E: the run would take about"},
+      {with_material(R"({"E": 1e5, "nu": 0.3, "density": 1e-300})"), "/shells/0/material/density: the run would take about"},
+      {cloth(R"({"end": 1})", "", R"("initial_velocity": [0, 1e30, 0], )"), "/shells/0/initial_velocity: the run would take about"},
+      {cloth(R"({"end": 1e300})"), "/time/end: the run would write 2.4e+301 frames, more than any run can"},
+      {R"({"time": {"end": 0.1}, "shells": [{"patch": {"type": "control_net", "degree": [10, 10], "knots_u": )" + knots +
+           R"(, "knots_v": )" + knots + R"(, "control_points": [)" + net + R"(]}, "thickness": 0.001, "material": )" + material + "}]}",
+       "/shells/0/patch/degree/0: value 10 is out of range: must be in [1, 7]"},
+      {cloth().replace(cloth().find(R"("shells": [)"), 11, R"("shells": [{"name": "cloth", "patch": {"type": "flat", "size": [1, 1], "cells": [2, 2]}, "thickness": 0.001, "material": {"E": 1e5, "nu": 0.3, "density": 300}}, )"),
+       "/shells/1/name: shell name \"cloth\" is already used by /shells/0"},
+      {mesh_solid("nan.obj", ""), "/solids/0/file: " + (d / "nan.obj").string() + ": mesh has 1 vertices with NaN"},
+      {mesh_solid("triangle.obj", ""), "/solids/0/file: " + (d / "triangle.obj").string() + ": mesh is not closed: 3 boundary edge(s)"},
+      {mesh_solid("tet.obj", R"("voxel_size": 1e-6, )"), "/solids/0/voxel_size: the scene needs about"},
+  };
+  for (const auto& [text, message] : cases) {
+    const Result r = run_text(d, text, "--max-memory 8G");
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_THAT(r.output, HasSubstr("s.json: " + message)) << text;
+    EXPECT_FALSE(fs::exists(d / "out")) << text;
+  }
+  fs::remove_all(d);
+}
+
 TEST(CliRobust, ValidatePrintsTheEstimateAndRunRefusesOverBudget) {
   const fs::path d = scratch("budget");
   const Result ok = validate_text(d, cloth());
