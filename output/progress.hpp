@@ -17,15 +17,19 @@ class Progress {
            double log_interval_seconds = 5.0);
   // done is in [0, total]; detail is appended to the line (e.g. "frame 12/48"). Drawn only when due.
   void update(double done, const std::string& detail = "");
-  // Whether update() would draw now: callers that report every step build their detail text only then.
-  bool due() const;
+  // update() that also draws when a line will be due within ahead_seconds (the watchdog's).
+  void update_early(double done, const std::string& detail, double ahead_seconds);
+  // Whether update() would draw now, or (ahead_seconds > 0) will within that time: callers that report
+  // every step build their detail text only then; a watchdog that wakes every `ahead_seconds` draws
+  // early rather than late, so lines are never further apart than the interval.
+  bool due(double ahead_seconds = 0) const;
   void finish(const std::string& detail = "");
 
   // True when stderr is a terminal (and TERM is not "dumb").
   static bool stderr_is_terminal();
 
  private:
-  bool due_locked() const;
+  bool due_locked(double ahead_seconds = 0) const;
   void draw(double done, const std::string& detail, bool final);
 
   std::ostream& out_;
@@ -34,7 +38,7 @@ class Progress {
   std::string unit_;
   double log_interval_;
   std::chrono::steady_clock::time_point start_, last_draw_;
-  bool drawn_ = false;
+  bool drawn_ = false, finished_ = false;
   mutable std::mutex mutex_;
 };
 

@@ -254,11 +254,16 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
 
+  const int last_frame = static_cast<int>(frame_count);
+  Progress progress(log, options.interactive, model.time.end > 0 ? model.time.end : 1.0, "s");
+  // Progress lines also while the set-up, a single step or an export runs long.
+  StepWatchdog watchdog(progress);
+  using Activity = StepWatchdog::Activity;
+  watchdog.record(0, 0, last_frame, 0, Activity::setting_up);
   sim::Simulation sim(model);  // may throw SceneError (e.g. dt above the stability bound) before any output
   prepare_output(options.out_dir, options.keep_old_frames, log);
   FrameWriter frames(model, options.out_dir);
   BrittleWriter brittle(model, options.out_dir);  // fracture events of brittle solids (docs/brittle.md)
-  const int last_frame = static_cast<int>(frame_count);
   double peak_kinetic = 0;
   auto finish = [&](const std::string& status, const std::string& error) {
     Summary s = make_summary(sim, frames, threads, peak_kinetic, status);
@@ -270,9 +275,6 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
   };
   auto stop_requested = [&] { return interrupt_signal() != 0 || (options.should_stop && options.should_stop()); };
 
-  Progress progress(log, options.interactive, model.time.end > 0 ? model.time.end : 1.0, "s");
-  StepWatchdog watchdog(progress);  // progress lines also while a single step or export runs long
-  using Activity = StepWatchdog::Activity;
   bool stopped = false;
   try {
     watchdog.record(0, 0, last_frame, 0, Activity::writing_frame);
