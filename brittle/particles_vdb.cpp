@@ -6,6 +6,7 @@
 #include <openvdb/points/PointCount.h>
 
 #include <mutex>
+#include <sstream>
 #include <stdexcept>
 
 namespace shellfrac::brittle {
@@ -24,9 +25,21 @@ void add_attribute(Tree& tree, const Index& index, const char* name, const std::
       tree, index, name, openvdb::points::PointAttributeVector<T>(values));
 }
 
+// The archive io::File writes, but into memory: io::File::write does not check its stream after writing,
+// so a full disk would leave a truncated file. The caller writes these bytes with checked I/O.
+class MemoryArchive : public openvdb::io::Archive {
+ public:
+  std::string bytes(const openvdb::GridCPtrVec& grids) const {
+    std::ostringstream os(std::ios_base::out | std::ios_base::binary);
+    Archive::write(os, grids, /*seekable=*/true);  // a string stream seeks, as a file does
+    if (!os) throw std::runtime_error("cannot serialise the particle grid");
+    return os.str();
+  }
+};
+
 }  // namespace
 
-void write_particles_vdb(const BrittleSolid& solid, const std::filesystem::path& file, bool use_rest) {
+std::string particles_vdb_bytes(const BrittleSolid& solid, bool use_rest) {
   init_vdb();
   const size_t n = solid.size();
   std::vector<openvdb::Vec3R> positions(n);
@@ -57,17 +70,7 @@ void write_particles_vdb(const BrittleSolid& solid, const std::filesystem::path&
   add_attribute(tree, index->tree(), "tau", tau);
   add_attribute(tree, index->tree(), "id", id);
 
-  const std::filesystem::path staging = file.string() + ".partial";
-  try {
-    openvdb::io::File out(staging.string());
-    out.write({grid});
-    out.close();
-    std::filesystem::rename(staging, file);
-  } catch (const std::exception& e) {
-    std::error_code ignore;
-    std::filesystem::remove(staging, ignore);
-    throw std::runtime_error("cannot write particles to " + file.string() + ": " + e.what());
-  }
+  return MemoryArchive().bytes({grid});
 }
 
 ParticlePoints read_particles_vdb(const std::filesystem::path& file) {

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "brittle/particles_vdb.hpp"
+#include "render_mesh/atomic_write.hpp"
 #include "render_mesh/exporter.hpp"
 
 namespace shellfrac::output {
@@ -51,9 +52,9 @@ void BrittleWriter::write_new_events(const sim::Simulation& sim) {
     brittle::TriMesh crack = ev.crack_surface_clipped;
     crack.name = b.spec->name + "_crack";
     const fs::path crack_file = render_mesh::export_meshes({poly_mesh(crack)}, dir, stem + "_crack", model_.output.format, options);
-    // Particles at their material positions, where the fragments are (write_particles_vdb renames into place).
+    // Particles at their material positions, where the fragments are.
     const fs::path particles = dir / (stem + "_particles.vdb");
-    brittle::write_particles_vdb(*b.solid, particles, true);
+    render_mesh::write_file_atomically(particles, brittle::particles_vdb_bytes(*b.solid, true));
     files_[i] = {fs::relative(fragments, out_dir_).string(), fs::relative(crack_file, out_dir_).string(),
                  fs::relative(particles, out_dir_).string()};
     written_[i] = true;

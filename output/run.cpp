@@ -15,6 +15,7 @@
 #include "output/mesh_metrics.hpp"
 #include "output/progress.hpp"
 #include "output/seam_metrics.hpp"
+#include "output/step_watchdog.hpp"
 #include "render_mesh/atomic_write.hpp"
 #include "render_mesh/cracked_tessellation.hpp"
 #include "render_mesh/exporter.hpp"
@@ -253,11 +254,16 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
 
+  const int last_frame = static_cast<int>(frame_count);
+  Progress progress(log, options.interactive, model.time.end > 0 ? model.time.end : 1.0, "s");
+  // Progress lines also while the set-up, a single step or an export runs long.
+  StepWatchdog watchdog(progress);
+  using Activity = StepWatchdog::Activity;
+  watchdog.record(0, 0, last_frame, 0, Activity::setting_up);
   sim::Simulation sim(model);  // may throw SceneError (e.g. dt above the stability bound) before any output
   prepare_output(options.out_dir, options.keep_old_frames, log);
   FrameWriter frames(model, options.out_dir);
   BrittleWriter brittle(model, options.out_dir);  // fracture events of brittle solids (docs/brittle.md)
-  const int last_frame = static_cast<int>(frame_count);
   double peak_kinetic = 0;
   auto finish = [&](const std::string& status, const std::string& error) {
     Summary s = make_summary(sim, frames, threads, peak_kinetic, status);
@@ -269,9 +275,9 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
   };
   auto stop_requested = [&] { return interrupt_signal() != 0 || (options.should_stop && options.should_stop()); };
 
-  Progress progress(log, options.interactive, model.time.end > 0 ? model.time.end : 1.0, "s");
   bool stopped = false;
   try {
+    watchdog.record(0, 0, last_frame, 0, Activity::writing_frame);
     frames.write(sim, 0);
     for (int f = 1; f <= last_frame && !stopped; ++f) {
       // The steps of sim.advance_to, taken here so that progress, callbacks and interrupts see every
@@ -284,6 +290,7 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
         }
         const double remaining = t - sim.time();
         const double n = std::ceil(remaining / sim.stable_dt() - 1e-9);
+        watchdog.record(sim.time(), f, last_frame, sim.steps(), Activity::stepping);
         sim.step(n <= 1 ? remaining : remaining / n);
         if (options.on_step) options.on_step(StepReport{sim.steps(), sim.time(), model.time.end, f, last_frame});
         if (progress.due())
@@ -293,6 +300,7 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
       if (stopped) break;
       sim.advance_to(t);
       peak_kinetic = std::max(peak_kinetic, sim.kinetic_energy());
+      watchdog.record(sim.time(), f, last_frame, sim.steps(), Activity::writing_frame);
       frames.write(sim, f);
       progress.update(sim.time(), "frame " + std::to_string(f) + "/" + std::to_string(last_frame) + ", step " +
                                       std::to_string(sim.steps()));

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "nurbs/nurbs_surface.hpp"
 #include "scene/model.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_error.hpp"
@@ -30,6 +31,9 @@ struct Builder {
   }
 };
 
+// The NURBS surface of a shell's patch, as the build makes it (refined control nets included); used by
+// the resource estimate too (scene/estimate.cpp) for the grid blocks its particles touch.
+nurbs::NurbsSurface patch_surface(const Builder& b, const Patch& p, const std::string& path);
 model::Shell build_shell(const Builder& b, const Shell& s, size_t index);
 model::SolidBody build_solid(const Builder& b, const Solid& s, size_t index);
 model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t index);  // build_brittle.cpp

@@ -71,19 +71,6 @@ nurbs::NurbsSurface control_net(const Builder& b, const Patch& p, const std::str
   return nurbs::insert_knots(surface, splits(surface.knots_u(), refine[0]), splits(surface.knots_v(), refine[1])).surface;
 }
 
-nurbs::NurbsSurface patch_surface(const Builder& b, const Patch& p, const std::string& path) {
-  try {
-    if (p.type == "flat") return nurbs::flat_patch((*p.size)[0], (*p.size)[1], (*p.cells)[0], (*p.cells)[1], frame_of(p));
-    if (p.type == "cylinder")
-      return nurbs::cylinder_segment(*p.radius, *p.height, sweep_of(p), (*p.cells)[0], (*p.cells)[1], frame_of(p));
-    if (p.type == "cone")
-      return nurbs::cone_segment(*p.radius_bottom, *p.radius_top, *p.height, sweep_of(p), (*p.cells)[0], (*p.cells)[1],
-                                 frame_of(p));
-    return control_net(b, p, path);
-  } catch (const nurbs::NurbsError& e) {
-    b.fail(path, e.what());
-  }
-}
 
 model::FractureSpec fracture_of(const Fracture& f) {
   model::FractureSpec out;
@@ -127,6 +114,20 @@ model::Material material_of(const Material& m) {
 }
 
 }  // namespace
+
+nurbs::NurbsSurface patch_surface(const Builder& b, const Patch& p, const std::string& path) {
+  try {
+    if (p.type == "flat") return nurbs::flat_patch((*p.size)[0], (*p.size)[1], (*p.cells)[0], (*p.cells)[1], frame_of(p));
+    if (p.type == "cylinder")
+      return nurbs::cylinder_segment(*p.radius, *p.height, sweep_of(p), (*p.cells)[0], (*p.cells)[1], frame_of(p));
+    if (p.type == "cone")
+      return nurbs::cone_segment(*p.radius_bottom, *p.radius_top, *p.height, sweep_of(p), (*p.cells)[0], (*p.cells)[1],
+                                 frame_of(p));
+    return control_net(b, p, path);
+  } catch (const nurbs::NurbsError& e) {
+    b.fail(path, e.what());
+  }
+}
 
 model::Shell build_shell(const Builder& b, const Shell& s, size_t index) {
   const std::string path = index_path("/shells", index);

@@ -2,9 +2,11 @@
 // measurements of this build (peak resident memory 567 MiB and 118 bytes of OBJ per render vertex for a
 // flat sheet of 200^2 cells rendered at 400^2; issue 14's 4096^2 render passing 8 GB) and rounded up, so
 // the estimate errs on the large side; the element counts follow the build: a flat or curved patch
-// is quadratic with cells + 2 control points per direction (plus one per quadratic arc piece around a
-// cylinder or cone), a control net gains (refine - 1) control points per non-empty knot span, each cell
-// carries points^2 x layers quadrature points and one shear particle.
+// is quadratic with cells + 2 control points per direction (cells + pieces + 1 around a cylinder or
+// cone, whose arc is made of rational pieces of at most 90 degrees), a control net gains (refine - 1)
+// control points per non-empty knot span, each cell carries points^2 x layers quadrature points and one
+// shear particle. The grid blocks of a shell are counted from its particles' positions (the patch's
+// control net and cell centres, built as the build builds them) when there are at most a few million.
 #include "scene/estimate.hpp"
 
 #include <algorithm>
@@ -13,8 +15,10 @@
 #include <cstdio>
 #include <Eigen/Geometry>
 #include <filesystem>
+#include <unordered_set>
 
 #include "core/constants.hpp"
+#include "scene/build_context.hpp"
 #include "scene/field_checks.hpp"
 #include "scene/mesh_import.hpp"
 #include "scene/quality.hpp"
@@ -109,8 +113,10 @@ ShellSize shell_size(const Shell& s, size_t i) {
   const double sweep = p.sweep_degrees.value_or(360.0) * core::kPi / 180.0;
   const double r0 = p.type == "cylinder" ? *p.radius : *p.radius_bottom;
   const double r1 = p.type == "cylinder" ? *p.radius : *p.radius_top;
-  const double pieces = std::ceil(p.sweep_degrees.value_or(360.0) / 90.0 - 1e-9);
-  out.control_points = (cu + 2 + pieces) * (cv + 2);
+  // The arc is rational quadratic in pieces of at most 90 degrees joined by double knots (2 pieces + 1
+  // control points), each further cell adds one (nurbs::cone_segment); the axis is quadratic in cv cells.
+  const double pieces = std::ceil(p.sweep_degrees.value_or(360.0) / 90.0 - 1e-10);
+  out.control_points = (cu + pieces + 1) * (cv + 2);
   out.area = 0.5 * (r0 + r1) * sweep * std::hypot(*p.height, r1 - r0);
   const double reach = std::max(r0, r1) + *p.height;
   out.box.add(origin - Eigen::Vector3d::Constant(reach));
@@ -130,6 +136,59 @@ MeshStats read_mesh(const Scene& scene, const MeshFile& m, const std::string& pa
 }
 
 double wave_speed(double E, double nu, double density) { return std::sqrt(E / (density * (1 - nu * nu))); }
+
+// The grid blocks that mpm::SparseGrid::rebuild activates for a set of particle positions: the block
+// of each particle's stencil base node, floor(x / dx - 0.5), and its seven forward neighbours.
+class GridBlocks {
+ public:
+  explicit GridBlocks(double dx) : inv_dx_(1.0 / dx) {}
+  void add(const Eigen::Vector3d& x) {
+    uint64_t key = 0;
+    for (int d = 0; d < 3; ++d) {
+      const long base = static_cast<long>(std::floor(x[d] * inv_dx_ - 0.5));
+      const long block = base >= 0 ? base / 4 : -((-base + 3) / 4);
+      key = (key << 21) | static_cast<uint64_t>(block + (1 << 20));
+    }
+    occupied_.insert(key);
+  }
+  size_t occupied() const { return occupied_.size(); }
+  double active() const {
+    std::vector<uint64_t> active;
+    active.reserve(occupied_.size() * 8);
+    constexpr uint64_t kMask = (1u << 21) - 1;
+    for (const uint64_t k : occupied_)
+      for (int d = 0; d < 8; ++d) {
+        const uint64_t x = ((k >> 42) & kMask) + (d & 1), y = ((k >> 21) & kMask) + ((d >> 1) & 1), z = (k & kMask) + (d >> 2);
+        active.push_back((x << 42) | (y << 21) | z);
+      }
+    std::sort(active.begin(), active.end());
+    return static_cast<double>(std::unique(active.begin(), active.end()) - active.begin());
+  }
+
+ private:
+  double inv_dx_;
+  std::unordered_set<uint64_t> occupied_;
+};
+
+// Shells with at most this many grid particles and blocks (by the area formula) have their blocks
+// counted from the particle positions (control points and the shear particles at the cell centres, as
+// sim::World puts them on the grid; a few tens of MB at most); bigger ones (and memory bombs) use the
+// area formula, which allocates nothing.
+constexpr double kCountedParticles = 2e6, kCountedBlocks = 2e5;
+
+// Adds a shell's grid particles to `blocks`: its control points, and its cell centres on the surface.
+void add_shell_particles(const Scene& scene, const Shell& s, const std::string& path, GridBlocks& blocks) {
+  const nurbs::NurbsSurface surface = detail::patch_surface(detail::Builder{scene}, *s.patch, path + "/patch");
+  for (const auto& c : surface.control_points()) blocks.add(c);
+  auto spans = [](const nurbs::KnotVector& k) {
+    std::vector<double> mid;
+    for (int i = k.degree(); i < k.num_basis(); ++i)
+      if (k[i + 1] > k[i]) mid.push_back(0.5 * (k[i] + k[i + 1]));
+    return mid;
+  };
+  for (const double v : spans(surface.knots_v()))
+    for (const double u : spans(surface.knots_u())) blocks.add(surface.point(u, v));
+}
 
 }  // namespace
 
@@ -202,6 +261,7 @@ ResourceEstimate estimate_resources(const Scene& input) {
   // Memory, item by item.
   double particles = 0, blocks = 0, block_particles = 0;
   const double block = 4.0 * e.grid_dx;
+  GridBlocks counted(e.grid_dx);  // blocks of the shells small enough to count exactly
   for (size_t i = 0; i < shells.size(); ++i) {
     const ShellSize& s = shells[i];
     const Shell& in = scene.shells[i];
@@ -214,7 +274,12 @@ ResourceEstimate estimate_resources(const Scene& input) {
     e.memory.push_back({name + "shear particles", s.cells, s.cells * kShearParticleBytes, s.count_path});
     particles += s.control_points + qp + s.cells;
     // A sheet touches about two layers of blocks (thicker sheets more), never more than 8 per particle.
-    blocks += std::min(8.0 * (s.control_points + qp), s.area / (block * block) * (2.0 + s.thickness / block));
+    const double area_blocks =
+        std::min(8.0 * (s.control_points + s.cells), s.area / (block * block) * (2.0 + s.thickness / block));
+    if (s.control_points + s.cells <= kCountedParticles && area_blocks <= kCountedBlocks)
+      add_shell_particles(scene, in, "/shells/" + std::to_string(i), counted);
+    else
+      blocks += area_blocks;
     block_particles += s.control_points + qp;
   }
   for (size_t i = 0; i < solids.size(); ++i) {
@@ -242,6 +307,7 @@ ResourceEstimate estimate_resources(const Scene& input) {
     e.memory.push_back({"collider \"" + c.name.value_or("collider" + std::to_string(i)) + "\" level-set voxels", voxels,
                         voxels * kLevelSetVoxelBytes, path + "/voxel_size"});
   }
+  blocks += counted.active();
   e.memory.push_back({"grid nodes", 64 * blocks, blocks * kGridBlockBytes, scene.grid.dx ? "/grid/dx" : dx_path});
   const double ru = scene.output.resolution ? (*scene.output.resolution)[0] : 32;
   const double rv = scene.output.resolution ? (*scene.output.resolution)[1] : 32;

@@ -4,7 +4,8 @@
 // writes. Everything comes from the scene's numbers and cheap geometry (patch sizes, knot spans, mesh
 // bounds and areas read from the mesh file, no level set), so `validate` and `run` can refuse a scene
 // that would exhaust the machine at no cost. The counts are estimates (docs/cli.md, "Resource estimate");
-// the shell counts are exact for flat patches and control nets.
+// the shell counts are exact for flat, cylinder and cone patches and control nets, and so are the grid
+// nodes of shells with up to 2e6 grid particles and 2e5 blocks (counted from their positions).
 #include <optional>
 #include <string>
 #include <vector>

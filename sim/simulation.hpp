@@ -79,6 +79,9 @@ class Simulation {
   size_t num_quadrature_points() const { return world_.num_quadrature_points(); }
   size_t num_shear_particles() const { return world_.num_shear_particles(); }
   size_t num_solid_particles() const { return world_.num_solid_particles(); }
+  // Grid nodes the particles touched at the last grid rebuild (0 before the first step), phantom copies
+  // not counted.
+  size_t num_grid_nodes() const { return grid_.num_grid_nodes(); }
   double kinetic_energy() const { return world_.kinetic_energy(); }
   Eigen::Vector3d linear_momentum() const { return world_.linear_momentum(); }
   // Total force the pins exert on shell i (minus the elastic force on its pinned control points).

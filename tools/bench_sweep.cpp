@@ -15,6 +15,7 @@
 #include "scene/scene_error.hpp"
 #include "tools/bench_scenes.hpp"
 #include "tools/charts.hpp"
+#include "tools/run_limits.hpp"
 #include "output/progress.hpp"
 #include "scene/build.hpp"
 #include "output/frame_render.hpp"
@@ -44,11 +45,13 @@ namespace {
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // Runs a scene to `end` and measures with `quantity` at the end; the timed part is the stepping only.
+// The scene is checked against the limits before it is built, and stepping stops on request.
 template <class Quantity>
-Measurement simulate(const scene::Scene& scene, double end, Quantity&& quantity) {
+Measurement simulate(const scene::Scene& scene, double end, const RunLimits& limits, Quantity&& quantity) {
+  check_limits(scene, end, limits);
   sim::Simulation sim(scene);
   const auto t0 = Clock::now();
-  sim.advance_to(end);
+  advance(sim, end, limits, "bench sweep");
   Measurement m;
   m.wall_seconds = seconds_since(t0);
   m.simulated_seconds = sim.time();
@@ -64,7 +67,7 @@ void set_relative_error(Measurement& m) {
   m.error = std::abs(m.measured - m.reference) / std::abs(m.reference);
 }
 
-AccuracyBenchmark membrane_benchmark(bool full) {
+AccuracyBenchmark membrane_benchmark(bool full, const RunLimits& limits) {
   AccuracyBenchmark b;
   b.name = "membrane";
   b.reference = "hanging strip 0.25 x 0.5 m, nu = 0, under its own weight: elongation from the exact 1D "
@@ -74,9 +77,9 @@ AccuracyBenchmark membrane_benchmark(bool full) {
   b.cells = full ? std::vector<int>{5, 10, 20, 40} : std::vector<int>{4, 8};
   if (!full) b.points = {2, 4}, b.cfl = {1.0};
   const double end = full ? 0.3 : 0.03;
-  b.run = [end](const Discretisation& d) {
+  b.run = [end, limits](const Discretisation& d) {
     const scene::Scene scene = bench_scenes::hanging_strip(d);
-    Measurement m = simulate(scene, end, [](const sim::Simulation& sim) {
+    Measurement m = simulate(scene, end, limits, [](const sim::Simulation& sim) {
       const auto surf = sim.world().shell(0).current_surface();
       double y = 0;
       for (int k = 0; k <= 4; ++k) y += surf.point(k / 4.0, 1.0).y() / 5.0;
@@ -90,7 +93,7 @@ AccuracyBenchmark membrane_benchmark(bool full) {
   return b;
 }
 
-AccuracyBenchmark cantilever_benchmark(bool full) {
+AccuracyBenchmark cantilever_benchmark(bool full, const RunLimits& limits) {
   AccuracyBenchmark b;
   b.name = "cantilever";
   b.reference = "0.5 x 0.1 x 0.05 m plate clamped at one end under its own weight (nu = 0): Euler-Bernoulli "
@@ -101,8 +104,8 @@ AccuracyBenchmark cantilever_benchmark(bool full) {
   b.one_layer_ladder = false;  // one layer has no bending stiffness: the plate just hangs
   if (!full) b.points = {4}, b.cfl = {1.0}, b.apic = false;
   const double end = full ? 0.3 : 0.01;
-  b.run = [end](const Discretisation& d) {
-    Measurement m = simulate(bench_scenes::cantilever(d), end, [](const sim::Simulation& sim) {
+  b.run = [end, limits](const Discretisation& d) {
+    Measurement m = simulate(bench_scenes::cantilever(d), end, limits, [](const sim::Simulation& sim) {
       const auto surf = sim.world().shell(0).current_surface();
       double tip = 0;
       for (int k = 0; k <= 4; ++k) tip += surf.point(1.0, k / 4.0).z() / 5.0;
@@ -116,7 +119,7 @@ AccuracyBenchmark cantilever_benchmark(bool full) {
   return b;
 }
 
-AccuracyBenchmark tear_benchmark(bool full) {
+AccuracyBenchmark tear_benchmark(bool full, const RunLimits& limits) {
   AccuracyBenchmark b;
   b.name = "tear-area";
   b.reference = "1 m^2 notched sheet torn in mode I and relaxed: render-mesh area against the sheet's 1.0 m^2";
@@ -125,8 +128,8 @@ AccuracyBenchmark tear_benchmark(bool full) {
   b.cells = full ? std::vector<int>{12, 16, 20, 24} : std::vector<int>{12};
   if (!full) b.points = {4}, b.one_layer_ladder = false, b.cfl = {}, b.apic = false;
   const double end = full ? 1.2 : 0.03;
-  b.run = [end](const Discretisation& d) {
-    Measurement m = simulate(bench_scenes::mode_one_tear(d), end, [](const sim::Simulation& sim) {
+  b.run = [end, limits](const Discretisation& d) {
+    Measurement m = simulate(bench_scenes::mode_one_tear(d), end, limits, [](const sim::Simulation& sim) {
       return render_mesh::surface_area(output::render_meshes(sim)[0]);
     });
     m.reference = 1.0;
@@ -150,7 +153,7 @@ double drape_difference(const sim::Simulation& two, const sim::Simulation& one) 
   return worst;
 }
 
-AccuracyBenchmark drape_benchmark(bool full) {
+AccuracyBenchmark drape_benchmark(bool full, const RunLimits& limits) {
   AccuracyBenchmark b;
   b.name = "drape-two-patch";
   b.reference = "1 x 1 m cloth on a ball as two C1-coupled patches (N/2 x N and N x 2N cells) against the same "
@@ -160,12 +163,15 @@ AccuracyBenchmark drape_benchmark(bool full) {
   b.cells = full ? std::vector<int>{4, 6, 8, 12} : std::vector<int>{2, 4};
   if (!full) b.points = {4}, b.one_layer_ladder = false, b.cfl = {}, b.apic = false;
   const double end = full ? 0.3 : 0.02;
-  b.run = [end](const Discretisation& d) {
-    sim::Simulation one(bench_scenes::drape(d, false));
-    one.advance_to(end);
-    sim::Simulation two(bench_scenes::drape(d, true));
+  b.run = [end, limits](const Discretisation& d) {
+    const scene::Scene one_patch = bench_scenes::drape(d, false), two_patches = bench_scenes::drape(d, true);
+    check_limits(one_patch, end, limits);
+    check_limits(two_patches, end, limits);
+    sim::Simulation one(one_patch);
+    advance(one, end, limits, "bench sweep");
+    sim::Simulation two(two_patches);
     const auto t0 = Clock::now();
-    two.advance_to(end);
+    advance(two, end, limits, "bench sweep");
     Measurement m;
     m.wall_seconds = seconds_since(t0);
     m.simulated_seconds = two.time();
@@ -240,9 +246,9 @@ std::string series_label(int points, int layers) {
 
 }  // namespace
 
-std::vector<AccuracyBenchmark> accuracy_benchmarks(bool full) {
-  return {membrane_benchmark(full), cantilever_benchmark(full), tear_benchmark(full), drape_benchmark(full),
-          mls_benchmark(full, false), mls_benchmark(full, true)};
+std::vector<AccuracyBenchmark> accuracy_benchmarks(bool full, const RunLimits& limits) {
+  return {membrane_benchmark(full, limits), cantilever_benchmark(full, limits), tear_benchmark(full, limits),
+          drape_benchmark(full, limits), mls_benchmark(full, false), mls_benchmark(full, true)};
 }
 
 std::vector<std::pair<std::string, Discretisation>> sweep_plan(const AccuracyBenchmark& b) {
@@ -265,7 +271,7 @@ std::vector<std::pair<std::string, Discretisation>> sweep_plan(const AccuracyBen
 
 std::vector<SweepRow> run_sweep(const SweepConfig& config, std::ostream& log) {
   fs::create_directories(config.out_dir);
-  const auto benchmarks = accuracy_benchmarks(config.full);
+  const auto benchmarks = accuracy_benchmarks(config.full, config.limits);
   size_t total = 0;
   for (const auto& b : benchmarks) total += sweep_plan(b).size();
   output::Progress progress(log, output::Progress::stderr_is_terminal(), static_cast<double>(total), "runs");
@@ -274,6 +280,7 @@ std::vector<SweepRow> run_sweep(const SweepConfig& config, std::ostream& log) {
   for (const auto& b : benchmarks) {
     for (const auto& [series, d] : sweep_plan(b)) {
       const std::string label = b.name + " " + series + " cells " + std::to_string(d.cells);
+      check_stop(config.limits, "bench sweep (" + std::to_string(done) + " of " + std::to_string(total) + " runs done)");
       try {
         SweepRow row{b.name, series, d, b.length / d.cells, b.run(d), false};
         rows.push_back(row);

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "tools/run_limits.hpp"
+
 namespace shellfrac::tools {
 
 // One discretisation of a benchmark.
@@ -61,10 +63,12 @@ struct SweepConfig {
   bool full = false;  // tiny: seconds, for tests; full: the documented sweep (minutes)
   std::filesystem::path out_dir = "out/bench";
   bool charts = true;  // draw PNGs with gnuplot (the CSVs are always written)
+  RunLimits limits;    // budget per scene, stop requests between steps (output::Interrupted, nothing written)
 };
 
-// The benchmarks of a configuration (tiny: small and short versions of the same cases).
-std::vector<AccuracyBenchmark> accuracy_benchmarks(bool full);
+// The benchmarks of a configuration (tiny: small and short versions of the same cases); their runs check
+// each scene against `limits` before building it and stop on its requests.
+std::vector<AccuracyBenchmark> accuracy_benchmarks(bool full, const RunLimits& limits = {});
 
 // The discretisations run for a benchmark, with their series names.
 std::vector<std::pair<std::string, Discretisation>> sweep_plan(const AccuracyBenchmark& b);

@@ -1,13 +1,17 @@
 #include "tools/charts.hpp"
 
+#include <sys/wait.h>
+
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <limits>
 #include <sstream>
 
+#include "output/interrupt.hpp"
 #include "render_mesh/atomic_write.hpp"
 
 namespace shellfrac::tools::charts {
@@ -127,16 +131,14 @@ void render_png(const fs::path& png, const std::string& script, int width, int h
   const fs::path tmp_png = dir / ("." + png.filename().string() + ".tmp");
   const fs::path script_path = dir / ("." + png.stem().string() + ".gp.tmp");
   const fs::path log_path = dir / ("." + png.stem().string() + ".gnuplot.log");
-  {
-    std::ofstream out(script_path);
-    out << "set terminal pngcairo noenhanced size " << width << "," << height << " font 'Sans,10'\n"
-        << "set output " << quoted(tmp_png.string()) << "\n"
-        << script << "\nunset output\n";
-    if (!out) throw ChartError("cannot write the gnuplot script " + script_path.string());
-  }
+  std::ostringstream text;
+  text << "set terminal pngcairo noenhanced size " << width << "," << height << " font 'Sans,10'\n"
+       << "set output " << quoted(tmp_png.string()) << "\n"
+       << script << "\nunset output\n";
+  render_mesh::write_file_durably(script_path, text.str());
   const std::string cmd =
       "gnuplot " + shell_quoted(script_path.string()) + " >" + shell_quoted(log_path.string()) + " 2>&1";
-  const int rc = std::system(cmd.c_str());
+  const int rc = std::system(cmd.c_str());  // SIGINT is ignored here while gnuplot runs, see below
   std::string log;
   {
     std::ifstream in(log_path);
@@ -144,14 +146,31 @@ void render_png(const fs::path& png, const std::string& script, int width, int h
     ss << in.rdbuf();
     log = ss.str();
   }
+  std::string image;
+  {
+    std::ifstream in(tmp_png, std::ios::binary);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    image = ss.str();
+  }
   std::error_code ec;
   fs::remove(script_path, ec);
   fs::remove(log_path, ec);
-  if (rc != 0 || !fs::exists(tmp_png)) {
-    fs::remove(tmp_png, ec);
-    throw ChartError("gnuplot failed to draw " + png.string() + ": " + log);
+  fs::remove(tmp_png, ec);
+  // Ctrl-C reaches gnuplot (same process group) and ends it with SIGINT, which std::system reports as a
+  // wait status or as the shell's exit code 130; SIGTERM and SIGHUP reach the handler.
+  const bool sigint = (WIFSIGNALED(rc) && WTERMSIG(rc) == SIGINT) || (WIFEXITED(rc) && WEXITSTATUS(rc) == 128 + SIGINT);
+  if (output::interrupt_signal() != 0 || sigint) {
+    const int signal = output::interrupt_signal() ? output::interrupt_signal() : SIGINT;
+    throw output::Interrupted("drawing " + png.string() + " stopped by " + output::signal_name(signal), signal);
   }
-  fs::rename(tmp_png, png);
+  if (rc != 0 || image.empty()) throw ChartError("gnuplot failed to draw " + png.string() + ": " + log);
+  // gnuplot does not report a full disk: a PNG must end with its IEND chunk, or it is truncated.
+  static const std::string kPngEnd("IEND\xae\x42\x60\x82", 8);
+  if (image.size() < 8 + kPngEnd.size() || image.compare(image.size() - kPngEnd.size(), kPngEnd.size(), kPngEnd) != 0)
+    throw ChartError("cannot write " + png.string() + ": gnuplot wrote an incomplete PNG (" + std::to_string(image.size()) +
+                     " bytes; is the disk full?)");
+  render_mesh::write_file_atomically(png, image);
 }
 
 void error_vs_cost_chart(const fs::path& png, const std::string& title, const std::string& cost_label,

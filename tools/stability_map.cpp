@@ -1,5 +1,7 @@
 #include "tools/stability_map.hpp"
 
+#include "tools/run_limits.hpp"
+
 #include "core/constants.hpp"
 
 #include <algorithm>
@@ -111,7 +113,8 @@ void trip(StabilityResult& r, Outcome o, const std::string& quantity, double mea
 
 }  // namespace
 
-StabilityResult run_stability_case(const StabilityCase& c, double baseline_peak_kinetic, const StabilityThresholds& t) {
+StabilityResult run_stability_case(const StabilityCase& c, double baseline_peak_kinetic, const StabilityThresholds& t,
+                                   const RunLimits& limits) {
   StabilityResult r;
   r.scene = c.scene;
   r.variant = c.variant;
@@ -122,9 +125,11 @@ StabilityResult run_stability_case(const StabilityCase& c, double baseline_peak_
     return r;
   };
   std::unique_ptr<sim::Simulation> sim;
+  scene::Scene variant = c.definition;
+  variant.source = c.scene + "-" + c.variant + ".json";
+  if (c.dt_factor <= 1 || variant.time.enforce_stability_bound == false)  // the refused variant has no cost
+    check_limits(variant, c.end, limits);
   try {
-    scene::Scene variant = c.definition;
-    variant.source = c.scene + "-" + c.variant + ".json";
     sim = std::make_unique<sim::Simulation>(variant);
   } catch (const scene::SceneError& e) {
     trip(r, Outcome::refused, "dt / stability bound at " + e.json_path(), c.dt_factor, 1.0);
@@ -137,6 +142,7 @@ StabilityResult run_stability_case(const StabilityCase& c, double baseline_peak_
   double initial_peak = 0, next_frame = 1.0 / 24.0;
   try {
     while (sim->time() < c.end - 1e-12 * std::max(1.0, c.end)) {
+      check_stop(limits, "bench stability (" + c.scene + " / " + c.variant + " at t = " + std::to_string(sim->time()) + " s)");
       const double dt = std::min(sim->stable_dt(), c.end - sim->time());
       sim->step(dt);
       r.dt = std::max(r.dt, dt);
@@ -195,11 +201,12 @@ StabilityResult run_stability_case(const StabilityCase& c, double baseline_peak_
   return finish();
 }
 
-std::vector<StabilityCase> stability_cases(bool full) {
+std::vector<StabilityCase> stability_cases(bool full, const RunLimits& limits) {
   std::vector<StabilityCase> cases;
   // Time-step variants relative to the elastic-wave bound (time.cfl = 1 so that dt is the factor times
   // the bound); past the bound the check is switched off, and once left on to show the refusal.
   auto add_dt_variants = [&](const StabilityCase& base) {
+    check_limits(base.definition, base.end, limits);  // the bound needs the built scene
     const double bound = sim::Simulation(base.definition).elastic_wave_bound();
     for (double f : {0.5, 1.0, 2.0, 4.0}) {
       StabilityCase c = base;
@@ -282,15 +289,15 @@ std::vector<StabilityCase> stability_cases(bool full) {
 
 std::vector<StabilityResult> run_stability_map(const StabilityConfig& config, std::ostream& table, std::ostream& log) {
   fs::create_directories(config.out_dir);
-  const auto cases = stability_cases(config.full);
+  const auto cases = stability_cases(config.full, config.limits);
   output::Progress progress(log, output::Progress::stderr_is_terminal(), static_cast<double>(cases.size()), "runs");
   std::vector<StabilityResult> results;
   double baseline_peak = 0;
   for (const auto& c : cases) {
     // The default variant of each scene comes first and sets the reference energy of its variants.
     const bool is_default = c.variant == "default";
-    results.push_back(
-        run_stability_case(c, is_default ? std::numeric_limits<double>::infinity() : baseline_peak));
+    results.push_back(run_stability_case(c, is_default ? std::numeric_limits<double>::infinity() : baseline_peak,
+                                         StabilityThresholds{}, config.limits));
     StabilityResult& r = results.back();
     if (is_default) {
       baseline_peak = r.peak_kinetic;

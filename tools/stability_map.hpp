@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "scene/scene.hpp"
+#include "tools/run_limits.hpp"
 
 namespace shellfrac::tools {
 
@@ -64,17 +65,21 @@ struct StabilityResult {
 // Runs one case. `baseline_peak_kinetic` is the peak kinetic energy of the scene's default variant
 // (0 for the default itself): the reference peak is the larger of it and the variant's own peak over the
 // first 10% of the run.
+// The scene is checked against `limits` before it is built (scene::SceneError over budget; the refused
+// dt variant is not, it never runs) and stepping stops on its requests (output::Interrupted).
 StabilityResult run_stability_case(const StabilityCase& c, double baseline_peak_kinetic,
-                                   const StabilityThresholds& t = {});
+                                   const StabilityThresholds& t = {}, const RunLimits& limits = {});
 
 struct StabilityConfig {
   bool full = false;
   std::filesystem::path out_dir = "out/bench";
   bool charts = true;
+  RunLimits limits;  // budget per scene, stop requests between steps (output::Interrupted, nothing written)
 };
 
-// The cases of a configuration: per scene the default first, then the variants.
-std::vector<StabilityCase> stability_cases(bool full);
+// The cases of a configuration: per scene the default first, then the variants. Building the dt variants
+// builds each scene once (for its stability bound): checked against `limits` first.
+std::vector<StabilityCase> stability_cases(bool full, const RunLimits& limits = {});
 
 // Runs every case, writes stability.csv and (charts on) stability-map.png into out_dir, prints the
 // table to `table` and progress to `log`.

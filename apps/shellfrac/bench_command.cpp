@@ -1,4 +1,7 @@
-// `shellfrac bench`: speed-accuracy sweeps and the stability map (docs/benchmarks.md).
+// `shellfrac bench`: speed-accuracy sweeps and the stability map (docs/benchmarks.md). Every scene is
+// checked against the resource budget before it is built (--max-memory, --max-steps, --force), and
+// SIGINT, SIGTERM and SIGHUP stop the bench between two steps with exit code 128 + the signal, writing
+// no CSV or chart (a partial sweep would look complete).
 #include "apps/shellfrac/command.hpp"
 
 #include <tbb/global_control.h>
@@ -8,6 +11,8 @@
 #include <memory>
 #include <string>
 
+#include "apps/shellfrac/budget.hpp"
+#include "output/interrupt.hpp"
 #include "tools/bench_sweep.hpp"
 #include "tools/stability_map.hpp"
 
@@ -20,6 +25,7 @@ struct BenchOptions {
   std::string out_dir = "out/bench";
   int threads = 0;
   bool no_charts = false;
+  BudgetArguments budget;
 };
 
 void add_common_options(CLI::App* cmd, BenchOptions& o) {
@@ -29,6 +35,16 @@ void add_common_options(CLI::App* cmd, BenchOptions& o) {
   cmd->add_option("--out,-o", o.out_dir, "Output directory for the CSV and PNG files")->capture_default_str();
   cmd->add_option("--threads,-j", o.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
   cmd->add_flag("--no-charts", o.no_charts, "Write the CSV files only (no gnuplot)");
+  add_budget_options(cmd, o.budget, /*with_force=*/true, /*with_frames=*/false);
+}
+
+// The budget of every bench scene (no frames are written) and the stop request of the signal handlers.
+tools::RunLimits bench_limits(const BudgetArguments& args) {
+  tools::RunLimits limits;
+  limits.budget = make_budget(args, "");
+  limits.budget.max_frames = 1e300;
+  limits.should_stop = [] { return output::interrupt_signal() != 0; };
+  return limits;
 }
 
 }  // namespace
@@ -51,11 +67,13 @@ Command add_bench_command(CLI::App& app) {
     const int threads = options->threads > 0 ? options->threads : tbb::info::default_concurrency();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
     return run_guarded([&] {
+      const output::InterruptHandlers handlers;
       if (*sweep) {
         tools::SweepConfig config;
         config.full = options->config == "full";
         config.out_dir = options->out_dir;
         config.charts = !options->no_charts;
+        config.limits = bench_limits(options->budget);
         const auto rows = tools::run_sweep(config, std::cerr);
         std::cout << "sweep (" << options->config << ", " << threads << " thread(s)): " << rows.size()
                   << " runs; sweep.csv, convergence.csv, stages.csv" << (config.charts ? " and charts" : "")
@@ -65,6 +83,7 @@ Command add_bench_command(CLI::App& app) {
         config.full = options->config == "full";
         config.out_dir = options->out_dir;
         config.charts = !options->no_charts;
+        config.limits = bench_limits(options->budget);
         const auto results = tools::run_stability_map(config, std::cout, std::cerr);
         std::cout << results.size() << " runs; stability.csv" << (config.charts ? " and stability-map.png" : "")
                   << " in " << options->out_dir << "\n";

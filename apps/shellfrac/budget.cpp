@@ -10,14 +10,17 @@
 
 namespace shellfrac::app {
 
-void add_budget_options(CLI::App* command, BudgetArguments& args, bool with_force) {
+void add_budget_options(CLI::App* command, BudgetArguments& args, bool with_force, bool with_frames) {
   command->add_option("--max-memory", args.max_memory,
                       "Refuse scenes estimated to need more memory than this (e.g. 8G, 512M; default: the "
                       "available memory)");
   command->add_option("--max-steps", args.max_steps, "Step budget (more needs --force)")->capture_default_str();
-  command->add_option("--max-frames", args.max_frames, "Frame budget (more needs --force)")->capture_default_str();
+  if (with_frames)
+    command->add_option("--max-frames", args.max_frames, "Frame budget (more needs --force)")->capture_default_str();
   if (with_force)
-    command->add_flag("--force", args.force, "Run even over the step, frame or free-disk budget (never over memory)");
+    command->add_flag("--force", args.force,
+                      with_frames ? "Run even over the step, frame or free-disk budget (never over memory)"
+                                  : "Run even over the step budget (never over memory)");
 }
 
 double available_memory_bytes() {

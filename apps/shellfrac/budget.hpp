@@ -17,8 +17,8 @@ struct BudgetArguments {
   bool force = false;
 };
 
-// Adds --max-memory, --max-steps, --max-frames and (with_force) --force to a command.
-void add_budget_options(CLI::App* command, BudgetArguments& args, bool with_force);
+// Adds --max-memory, --max-steps, (with_frames) --max-frames and (with_force) --force to a command.
+void add_budget_options(CLI::App* command, BudgetArguments& args, bool with_force, bool with_frames = true);
 
 // Bytes of memory this process may use: MemAvailable of /proc/meminfo, lowered by a cgroup limit
 // (memory.max) when one is set. 0 when neither can be read.

@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "core/error.hpp"
+#include "output/interrupt.hpp"
 #include "scene/json_io.hpp"
 
 namespace shellfrac::app {
@@ -10,6 +11,9 @@ namespace shellfrac::app {
 int run_guarded(const std::function<int()>& body) {
   try {
     return body();
+  } catch (const output::Interrupted& e) {
+    std::cerr << "interrupted: " << e.what() << "\n";
+    return core::to_int(e.exit_code());
   } catch (const std::exception& e) {
     const core::ExitCode code = core::exit_code_for(e);
     std::cerr << (code == core::ExitCode::numerical ? "numerical failure: " : "error: ") << e.what() << "\n";

@@ -4,13 +4,17 @@
 
 #include "apps/shellfrac/command.hpp"
 #include "core/error.hpp"
+#include "output/interrupt.hpp"
+#include "render_mesh/atomic_write.hpp"
 
+#include <poll.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -131,35 +135,52 @@ void check_frame_file(const fs::path& file, const fs::path& summary, int number)
   }
 }
 
-// A private folder holding the embedded scripts for Blender to run; removed when it goes out of scope.
-class ScriptFolder {
+// A private folder made with mkdtemp from `pattern` (ending in XXXXXX) and removed, with everything in
+// it, when it goes out of scope: also when an error or an interrupt unwinds the command.
+class TempFolder {
  public:
-  ScriptFolder() {
-    std::string name = (fs::temp_directory_path() / "shellfrac-preview-XXXXXX").string();
+  explicit TempFolder(const fs::path& pattern) {
+    std::string name = pattern.string();
     if (!::mkdtemp(name.data()))
-      throw std::runtime_error("cannot create a temporary folder for the Blender scripts: " +
-                               std::string(std::strerror(errno)));
+      throw std::runtime_error("cannot create the temporary folder " + name + ": " + std::strerror(errno));
     dir_ = name;
-    for (const auto& script : blender_preview_scripts()) {
-      std::ofstream out(dir_ / script.name, std::ios::binary);
-      out << script.text;
-      if (!out) throw std::runtime_error("cannot write the Blender script " + (dir_ / script.name).string());
-    }
   }
-  ~ScriptFolder() {
+  ~TempFolder() {
     std::error_code ec;
     fs::remove_all(dir_, ec);
   }
-  ScriptFolder(const ScriptFolder&) = delete;
-  ScriptFolder& operator=(const ScriptFolder&) = delete;
-  fs::path script() const { return dir_ / blender_preview_scripts().front().name; }
+  TempFolder(const TempFolder&) = delete;
+  TempFolder& operator=(const TempFolder&) = delete;
+  const fs::path& path() const { return dir_; }
 
  private:
   fs::path dir_;
 };
 
-// Runs `argv` with stdout and stderr into `log`; lines starting with `prefix` also go to `out` (prefix
-// replaced by "preview: "). Returns the exit status; keeps the last lines for an error message.
+// The embedded scripts for Blender to run, in a temporary folder.
+class ScriptFolder {
+ public:
+  ScriptFolder() : folder_(fs::temp_directory_path() / "shellfrac-preview-XXXXXX") {
+    for (const auto& script : blender_preview_scripts())
+      render_mesh::write_file_durably(folder_.path() / script.name, script.text);
+  }
+  fs::path script() const { return folder_.path() / blender_preview_scripts().front().name; }
+
+ private:
+  TempFolder folder_;
+};
+
+// Removes the staging folders (".staging-preview-*") that previews killed with SIGKILL left in png_dir.
+void remove_stale_staging(const fs::path& png_dir) {
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(png_dir, ec))
+    if (entry.path().filename().string().rfind(".staging-preview-", 0) == 0) fs::remove_all(entry.path(), ec);
+}
+
+// Runs `argv` in its own process group with stdout and stderr into `log`; lines starting with `prefix`
+// also go to `out` (prefix replaced by "preview: "). Returns the exit status; keeps the last lines for an
+// error message. When a signal is caught (output::InterruptHandlers), Blender's process group gets
+// SIGTERM, then SIGKILL after 5 s, and output::Interrupted is thrown once it has ended.
 int run_logged(const std::vector<std::string>& argv, const fs::path& log_path, std::ostream& out,
                std::deque<std::string>& tail) {
   int fds[2];
@@ -167,6 +188,7 @@ int run_logged(const std::vector<std::string>& argv, const fs::path& log_path, s
   const pid_t pid = ::fork();
   if (pid < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
   if (pid == 0) {
+    ::setpgid(0, 0);  // Ctrl-C reaches shellfrac only; it stops Blender and cleans up
     ::dup2(fds[1], STDOUT_FILENO);
     ::dup2(fds[1], STDERR_FILENO);
     ::close(fds[0]);
@@ -178,6 +200,7 @@ int run_logged(const std::vector<std::string>& argv, const fs::path& log_path, s
     std::fprintf(stderr, "cannot start %s: %s\n", args[0], std::strerror(errno));
     ::_exit(127);
   }
+  ::setpgid(pid, pid);  // also here, so that the group exists before any kill below
   ::close(fds[1]);
   std::ofstream log(log_path);
   const std::string prefix = "shellfrac-preview: ";
@@ -189,19 +212,46 @@ int run_logged(const std::vector<std::string>& argv, const fs::path& log_path, s
     tail.push_back(line);
     if (tail.size() > 15) tail.pop_front();
   };
-  for (;;) {
-    const ssize_t n = ::read(fds[0], buf, sizeof buf);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    pending.append(buf, static_cast<std::size_t>(n));
-    for (std::size_t eol; (eol = pending.find('\n')) != std::string::npos; pending.erase(0, eol + 1))
-      line_done(pending.substr(0, eol));
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point terminated{};
+  bool killed = false, exited = false;
+  int status = 0;
+  while (!exited) {
+    if (output::interrupt_signal() != 0) {
+      if (terminated == Clock::time_point{}) {
+        ::kill(-pid, SIGTERM);
+        terminated = Clock::now();
+      } else if (!killed && Clock::now() - terminated > std::chrono::seconds(5)) {
+        ::kill(-pid, SIGKILL);
+        killed = true;
+      }
+    }
+    pollfd p{fds[0], POLLIN, 0};
+    const int ready = ::poll(&p, 1, 100);  // wakes up to notice a signal (the handler restarts reads)
+    if (ready > 0) {
+      const ssize_t n = ::read(fds[0], buf, sizeof buf);
+      if (n > 0) {
+        pending.append(buf, static_cast<std::size_t>(n));
+        for (std::size_t eol; (eol = pending.find('\n')) != std::string::npos; pending.erase(0, eol + 1))
+          line_done(pending.substr(0, eol));
+        continue;
+      }
+      if (n < 0 && errno == EINTR) continue;
+      // End of output: Blender has closed its side (exited, or about to).
+      while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+      }
+      exited = true;
+    } else if (::waitpid(pid, &status, WNOHANG) == pid) {
+      exited = true;  // ended while a child it started still holds the pipe open
+    }
   }
   if (!pending.empty()) line_done(pending);
   ::close(fds[0]);
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
+  ::kill(-pid, SIGKILL);  // anything Blender left running in its group
+  if (const int signal = output::interrupt_signal())
+    throw output::Interrupted(std::string("preview stopped by ") + output::signal_name(signal) +
+                                  "; Blender was stopped and its partial files removed (log: " + log_path.string() + ")",
+                              signal);
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
@@ -226,9 +276,16 @@ int run_preview(const PreviewOptions& o) {
   fs::create_directories(png_dir, ec);
   if (!fs::is_directory(png_dir)) throw std::runtime_error("cannot create the PNG folder " + png_dir.string());
 
+  remove_stale_staging(png_dir);
+
+  const output::InterruptHandlers handlers;  // stop Blender and clean up on SIGINT, SIGTERM, SIGHUP
   const ScriptFolder scripts;
+  // Blender renders into a staging folder; the script moves each finished PNG into png_dir, so an
+  // interrupted or failed render leaves no partial image under a final name.
+  const TempFolder staging(png_dir / ".staging-preview-XXXXXX");
   std::vector<std::string> argv = {blender.string(), "-b", "--factory-startup", "-noaudio", "--python-exit-code",
-                                   "1", "-P", scripts.script().string(), "--", "--out", png_dir.string(), "--size",
+                                   "1", "-P", scripts.script().string(), "--", "--out", png_dir.string(),
+                                   "--staging", staging.path().string(), "--size",
                                    std::to_string(width), std::to_string(height), "--samples",
                                    std::to_string(o.samples), "--threads", std::to_string(o.threads)};
   // Frame 0 is the rest state: the script measures edge stretch against it.

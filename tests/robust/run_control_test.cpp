@@ -5,11 +5,16 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <filesystem>
+#include <mutex>
 #include <sstream>
+#include <thread>
 
 #include "output/interrupt.hpp"
+#include "output/progress.hpp"
 #include "output/run.hpp"
+#include "output/step_watchdog.hpp"
 #include "scene/build.hpp"
 #include "sim/simulation.hpp"
 
@@ -92,6 +97,75 @@ TEST(RunControl, EmptyOutputFolderIsBadInput) {
   options.out_dir = "";
   std::ostringstream log;
   EXPECT_THROW(run_scene(cloth(0.1), options, log), core::InputError);
+}
+
+// A stream buffer two threads may write to and the test may read while they do.
+class SharedLog : public std::streambuf {
+ public:
+  std::string text() const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return text_;
+  }
+
+ protected:
+  int overflow(int c) override {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (c != EOF) text_ += static_cast<char>(c);
+    return c;
+  }
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    text_.append(s, static_cast<size_t>(n));
+    return n;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::string text_;
+};
+
+size_t count(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// A step that never returns on its own (the main thread blocks, as inside a very long step): the
+// watchdog keeps printing the last recorded state. The intervals are scaled down (log every 20 ms,
+// wake every 10 ms) so that the test waits for lines, not for seconds; it asserts that lines come and
+// what they say, not when.
+TEST(RunControl, WatchdogPrintsTheLastStateWhileAStepRuns) {
+  SharedLog buffer;
+  std::ostream log(&buffer);
+  Progress progress(log, /*interactive=*/false, 1.0, "s", 0.02);
+  {
+    StepWatchdog watchdog(progress, 0.01);
+    watchdog.record(0.25, 3, 10, 57, StepWatchdog::Activity::stepping);
+    for (int i = 0; i < 20000 && count(buffer.text(), "\n") < 3; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    watchdog.record(0.3, 3, 10, 58, StepWatchdog::Activity::writing_frame);
+    for (int i = 0; i < 20000 && count(buffer.text(), "writing frame 3") < 1; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  const std::string text = buffer.text();
+  EXPECT_GE(count(text, "frame 3/10, step 57; step 58 running for"), 3u) << text;
+  EXPECT_GE(count(text, "frame 3/10, step 58; writing frame 3 running for"), 1u) << text;
+  EXPECT_THAT(text, HasSubstr("progress  25.0% frame 3/10")) << text;  // the recorded simulated time
+  // Stopped with the watchdog: nothing more is printed.
+  const size_t lines = count(text, "\n");
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_EQ(count(buffer.text(), "\n"), lines);
+}
+
+TEST(RunControl, WatchdogStaysQuietWhileStepsAreShort) {
+  // Each activity is recorded anew before it outlasts the period: the watchdog never speaks.
+  SharedLog buffer;
+  std::ostream log(&buffer);
+  Progress progress(log, false, 1.0, "s", 0.0);  // a line would always be due
+  {
+    StepWatchdog watchdog(progress, 3600.0);
+    for (long step = 0; step < 1000; ++step) watchdog.record(step * 1e-3, 1, 1, step, StepWatchdog::Activity::stepping);
+  }
+  EXPECT_EQ(buffer.text(), "");
 }
 
 TEST(RunControl, SignalNames) {

@@ -1,5 +1,5 @@
 // The resource estimate (scene/estimate.hpp): element counts against the built simulation (an
-// independent computation), the stable step against the simulation's bound, and the refusals of issue
+// independent computation; flat, control-net, cylinder and cone patches), the stable step against the simulation's bound, and the refusals of issue
 // 14's memory bombs and endless runs, which must come from the estimate alone (nothing is allocated).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -153,6 +153,31 @@ TEST(Estimate, EndlessRunsNeedForce) {
   EXPECT_NO_THROW(check_budget(estimate_resources(read_scene(with_time(R"({"end": 1, "frame_rate": 1e9})"), "t")), forced, "t"));
   const SceneError never = refusal(with_time(R"({"end": 1e300})"), true);
   EXPECT_THAT(never.message(), HasSubstr(std::to_string(INT_MAX)));
+}
+
+TEST(Estimate, CylinderAndConeCountsMatchTheAllocatedOnes) {
+  // Curved patches: the control points of the rational arcs (pieces of at most 90 degrees), and the grid
+  // nodes the built simulation activates at its first step (control points and shear particles on the
+  // grid, the blocks of their stencils and the forward neighbours). The issue asks for the grid within
+  // 20%; counting the blocks from the particle positions gives them exactly (measured: equal for all five).
+  for (const std::string& patch :
+       {std::string(R"({"type": "flat", "size": [1, 2], "cells": [5, 7]})"),
+        std::string(R"({"type": "cylinder", "radius": 0.3, "height": 1.0, "cells": [24, 8]})"),
+        std::string(R"({"type": "cylinder", "radius": 0.3, "height": 1.0, "sweep_degrees": 180, "cells": [12, 8]})"),
+        std::string(R"({"type": "cone", "radius_bottom": 0.4, "radius_top": 0.1, "height": 0.8, "cells": [24, 8]})"),
+        std::string(R"({"type": "cone", "radius_bottom": 0.4, "radius_top": 0.0, "height": 0.8, "cells": [32, 12]})")}) {
+    const Scene scene = read_scene(sheet_scene(patch), "t");
+    const ResourceEstimate e = estimate_resources(scene);
+    sim::Simulation sim(build(scene));
+    sim.step(sim.stable_dt());
+    EXPECT_EQ(count_of(e, "control points"), static_cast<double>(sim.num_control_points())) << patch;
+    EXPECT_EQ(count_of(e, "quadrature points"), static_cast<double>(sim.num_quadrature_points())) << patch;
+    EXPECT_EQ(count_of(e, "shear particles"), static_cast<double>(sim.num_shear_particles())) << patch;
+    const double nodes = static_cast<double>(sim.num_grid_nodes());
+    EXPECT_NEAR(count_of(e, "grid nodes"), nodes, 0.2 * nodes) << patch;
+    EXPECT_NEAR(e.grid_dx, sim.dx(), 1e-12 * sim.dx()) << patch;
+    EXPECT_NEAR(e.dt, 0.5 * sim.elastic_wave_bound(), 1e-12 * e.dt) << patch;
+  }
 }
 
 TEST(Estimate, FreeDiskBudget) {

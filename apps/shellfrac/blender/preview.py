@@ -2,10 +2,12 @@
 
 Run by the shellfrac binary (which embeds this file and shellfrac_mesh.py) as
     blender -b --factory-startup -noaudio --python-exit-code 1 -P preview.py -- \
-        --out PNG_DIR --size W H --samples N [--threads N] [--rest FRAME0] [--sliver-area A] \
-        --frame NUMBER PATH [--frame NUMBER PATH ...]
+        --out PNG_DIR [--staging DIR] --size W H --samples N [--threads N] [--rest FRAME0] \
+        [--sliver-area A] --frame NUMBER PATH [--frame NUMBER PATH ...]
 Lines starting with "shellfrac-preview: " are progress for the user; PNG_DIR/preview.json records the
-numbers. Importing, loose parts and edge stretch live in shellfrac_mesh.py, shared with count_loose_parts.py.
+numbers. Every file is written into the staging folder (default PNG_DIR; shellfrac passes a private one
+inside PNG_DIR and removes it afterwards) and moved into PNG_DIR only when complete, so an interrupted
+or failed render leaves no partial image under a final name. Importing, loose parts and edge stretch live in shellfrac_mesh.py, shared with count_loose_parts.py.
 
 What the picture shows, and why:
   * colour = one loose part (after welding patches along their seams), largest part first, so a tear
@@ -36,6 +38,23 @@ STRAND_STRETCH = 3.0  # the issue's strand threshold: a render edge over 3x its 
 
 def say(message):
     print(PREFIX + message, flush=True)
+
+
+PNG_END = b"IEND\xae\x42\x60\x82"  # the last chunk of every complete PNG
+
+
+def publish(staged, final):
+    """Moves a finished file from the staging folder to its final name, after checking that a PNG is
+    complete (Blender does not fail a render whose image could not be written whole) and syncing it."""
+    with open(staged, "rb") as f:
+        if staged.endswith(".png"):
+            f.seek(0, os.SEEK_END)
+            size = f.tell()
+            f.seek(max(0, size - len(PNG_END)))
+            if size < 16 or f.read() != PNG_END:
+                raise RuntimeError("cannot write %s: the image is incomplete (%d bytes; is the disk full?)" % (final, size))
+        os.fsync(f.fileno())
+    os.replace(staged, final)
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -315,6 +334,7 @@ def contact_sheet(pngs, labels, path, thumb_width=240):
 def main():
     ap = argparse.ArgumentParser(prog="preview.py")
     ap.add_argument("--out", required=True)
+    ap.add_argument("--staging", default=None, help="folder for files being written (default: --out)")
     ap.add_argument("--size", nargs=2, type=int, default=[640, 480])
     ap.add_argument("--samples", type=int, default=16)
     ap.add_argument("--threads", type=int, default=0)
@@ -325,6 +345,7 @@ def main():
     width, height = args.size
     frames = [(int(n), p) for n, p in args.frame]
     os.makedirs(args.out, exist_ok=True)
+    staging = args.staging or args.out
     started = time.perf_counter()
 
     empty_scene()
@@ -362,9 +383,11 @@ def main():
         objects = import_frame(path, collection)
         record = colour_frame(objects, rest, args.sliver_area, 0.012 * diagonal, mat, marker_mat, collection)
         png = os.path.join(args.out, "frame_%05d.png" % number)
-        bpy.context.scene.render.filepath = png
+        staged = os.path.join(staging, ".frame_%05d.partial.png" % number)
+        bpy.context.scene.render.filepath = staged
         t0, c0 = time.perf_counter(), time.process_time()
         bpy.ops.render.render(write_still=True)
+        publish(staged, png)
         record.update({"frame": number, "file": path, "png": png, "render_seconds": time.perf_counter() - t0,
                        "render_cpu_seconds": time.process_time() - c0})
         records.append(record)
@@ -376,7 +399,9 @@ def main():
         bpy.data.collections.remove(collection)
 
     sheet = os.path.join(args.out, "contact_sheet.png")
-    sheet_size = contact_sheet(pngs, [n for n, _ in frames], sheet)
+    staged_sheet = os.path.join(staging, ".contact_sheet.partial.png")
+    sheet_size = contact_sheet(pngs, [n for n, _ in frames], staged_sheet)
+    publish(staged_sheet, sheet)
     say("contact sheet: %s (%d x %d px)" % (sheet, sheet_size[0], sheet_size[1]))
     seconds = [r["render_seconds"] for r in records]
     summary = {
@@ -388,10 +413,10 @@ def main():
         "render_cpu_seconds_per_frame": sum(r["render_cpu_seconds"] for r in records) / len(records),
         "wall_seconds": time.perf_counter() - started,
     }
-    tmp = os.path.join(args.out, ".preview.json.tmp")
+    tmp = os.path.join(staging, ".preview.json.tmp")
     with open(tmp, "w") as f:
         json.dump(summary, f, indent=2)
-    os.replace(tmp, os.path.join(args.out, "preview.json"))
+    publish(tmp, os.path.join(args.out, "preview.json"))
 
 
 if __name__ == "__main__":
