@@ -12,6 +12,7 @@ struct MergedPoint {
   Eigen::Matrix3d projector = Eigen::Matrix3d::Zero();
   bool kinematic = false;
   size_t pin = 0;
+  std::vector<std::pair<size_t, Eigen::Matrix3d>> shares;  // each pin holding the point, its own projector
 };
 
 // One entry per held control point: the union of the directions all pins hold there (several static
@@ -19,6 +20,7 @@ struct MergedPoint {
 // when a pin moves them), following the first pin that holds it.
 std::vector<MergedPoint> merge_pins(const scene::Model& model) {
   std::map<std::pair<size_t, size_t>, std::pair<size_t, std::vector<Eigen::Vector3d>>> points;
+  std::map<std::pair<size_t, size_t>, std::vector<std::pair<size_t, Eigen::Matrix3d>>> shares;
   for (size_t p = 0; p < model.pins.size(); ++p) {
     const scene::model::Pin& pin = model.pins[p];
     for (size_t k = 0; k < pin.control_points.size(); ++k) {
@@ -26,11 +28,15 @@ std::vector<MergedPoint> merge_pins(const scene::Model& model) {
       auto it = points.find(key);
       if (it == points.end()) it = points.emplace(key, std::make_pair(p, std::vector<Eigen::Vector3d>{})).first;
       std::vector<Eigen::Vector3d>& dirs = it->second.second;
+      Eigen::Matrix3d own = Eigen::Matrix3d::Zero();  // a pin's directions at a point are orthonormal
       if (pin.holds_all(k)) {
         for (int d = 0; d < 3; ++d) dirs.push_back(Eigen::Vector3d::Unit(d));
+        own.setIdentity();
       } else {
         dirs.insert(dirs.end(), pin.held[k].begin(), pin.held[k].end());
+        for (const Eigen::Vector3d& d : pin.held[k]) own += d * d.transpose();
       }
+      shares[key].emplace_back(p, own);
     }
   }
   std::vector<MergedPoint> out;
@@ -47,6 +53,7 @@ std::vector<MergedPoint> merge_pins(const scene::Model& model) {
     const Eigen::MatrixXd Q = Eigen::MatrixXd(qr.householderQ()).leftCols(rank);
     m.projector = Q * Q.transpose();
     m.kinematic = rank == 3;
+    m.shares = shares[key];
     out.push_back(m);
   }
   return out;
@@ -63,7 +70,7 @@ std::vector<std::vector<bool>> kinematic_points(const scene::Model& model) {
 }
 
 PinSystem::PinSystem(const scene::Model& model, const World&) : model_(model), reaction_(model.pins.size(), Eigen::Vector3d::Zero()) {
-  for (const MergedPoint& m : merge_pins(model)) held_.push_back({m.shell, m.point, m.projector, m.kinematic, m.pin});
+  for (const MergedPoint& m : merge_pins(model)) held_.push_back({m.shell, m.point, m.projector, m.kinematic, m.pin, m.shares});
   for (size_t p = 0; p < model.pins.size(); ++p) {
     const scene::model::Pin& pin = model.pins[p];
     const Eigen::Matrix3d T = Eigen::Matrix3d::Identity() - pin.symmetry_normal * pin.symmetry_normal.transpose();
@@ -86,13 +93,23 @@ void PinSystem::hold_initial_velocities(World& world) const {
   }
 }
 
+void PinSystem::add_reaction(const Held& h, Eigen::Vector3d r) {
+  if (h.shares.size() > 1)
+    for (const auto& [pin, own] : h.shares) {
+      const Eigen::Vector3d part = own * r;
+      reaction_[pin] += part;
+      r -= part;
+    }
+  reaction_[h.pin] += r;  // all of it for a point of one pin; round-off otherwise
+}
+
 void PinSystem::hold_forces(World& world) {
   for (auto& r : reaction_) r.setZero();
   auto holds = [&] {
     for (const Held& h : held_) {
       Eigen::Vector3d& f = world.shell(h.shell).force[h.point];
       const Eigen::Vector3d held = h.kinematic ? f : Eigen::Vector3d(h.projector * f);
-      reaction_[h.pin] -= held;
+      add_reaction(h, -held);
       f -= held;
     }
   };
@@ -121,7 +138,7 @@ void PinSystem::hold_velocities(World& world, double dt, double t) {
       shell::ShellPatch& patch = world.shell(h.shell);
       const Eigen::Vector3d target = model_.pins[h.pin].motion.velocity_at(patch.x[h.point], t);
       const Eigen::Vector3d removed = h.projector * (patch.v[h.point] - target);
-      reaction_[h.pin] -= world.transfer_mass(h.shell)[h.point] * removed / dt;
+      add_reaction(h, -world.transfer_mass(h.shell)[h.point] * removed / dt);
       patch.v[h.point] -= removed;
     }
   };

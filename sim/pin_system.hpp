@@ -42,7 +42,8 @@ class PinSystem {
   void hold_positions(World& world, double t) const;
 
   size_t num_pins() const { return reaction_.size(); }
-  // Support reaction of pin i over the last step [N].
+  // Support reaction of pin i over the last step [N]. A point several pins hold splits its reaction
+  // between them in scene order, each taking the part along its own directions of what is left.
   const Eigen::Vector3d& reaction(size_t pin) const { return reaction_[pin]; }
 
  private:
@@ -51,7 +52,10 @@ class PinSystem {
     size_t point = 0;
     Eigen::Matrix3d projector = Eigen::Matrix3d::Identity();  // onto the held directions
     bool kinematic = false;                                     // all three components
-    size_t pin = 0;                                             // whose motion it follows, whose reaction it adds to
+    size_t pin = 0;                                             // whose motion it follows
+    // Every pin holding the point with its own projector: the reaction is split between them in scene
+    // order, each taking the part in its directions of what the earlier ones left.
+    std::vector<std::pair<size_t, Eigen::Matrix3d>> shares;
   };
   struct Tie {
     size_t shell = 0;
@@ -59,6 +63,8 @@ class PinSystem {
     Eigen::Matrix3d in_plane = Eigen::Matrix3d::Identity();  // T = I - n n^T
     size_t pin = 0;
   };
+  void add_reaction(const Held& h, Eigen::Vector3d r);
+
   const scene::Model& model_;
   std::vector<Held> held_;
   std::vector<Tie> ties_;

@@ -83,7 +83,7 @@ class Simulation {
   // Total force the pins exert on shell i over the last step (sim/pin_system.hpp: minus the force on the
   // held components, minus the momentum the held components lost, per unit time).
   const Eigen::Vector3d& pin_reaction(size_t shell) const { return pin_reaction_[shell]; }
-  // The same for scene pin i alone (a point held by several pins counts for the first).
+  // The same for scene pin i alone (a point held by several pins splits it: sim/pin_system.hpp).
   const Eigen::Vector3d& pin_set_reaction(size_t pin) const { return pins_.reaction(pin); }
   // The total force scene load i applied in the last step [N].
   const Eigen::Vector3d& applied_load(size_t load) const { return loads_.applied(load); }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -207,6 +208,7 @@ TEST(Probes, MatchTheBasisEvaluationAndTheCornerControlPoint) {
 // The plate of scenes/plate-pressure-rollers.json: a = 1, t = 0.05, E = 1e7, nu = 0.3, q = 7.
 struct PlateResult {
   double centre = 0;  // w at the centre
+  std::vector<std::array<double, 3>> reactions;  // per pin
   double reaction_z = 0, applied_z = 0;
   bool rested = false;
 };
@@ -219,7 +221,10 @@ PlateResult run_plate(scene::Scene s, const std::string& name) {
   const output::Summary r = output::run_scene(scene::build(s), options, log);
   PlateResult p;
   p.centre = r.probes.at(0).samples.back().displacement[2];
-  for (const output::PinReport& pin : r.pins) p.reaction_z += pin.reaction[2];
+  for (const output::PinReport& pin : r.pins) {
+    p.reaction_z += pin.reaction[2];
+    p.reactions.push_back(pin.reaction);
+  }
   p.applied_z = r.loads.at(0).applied[2];
   p.rested = r.until_rest && r.until_rest->reached;
   std::printf("plate %s: w_centre = %.9g m, reactions %.9g N, load %.9g N, %ld steps, rest at %.4g s\n", name.c_str(),
@@ -241,6 +246,13 @@ TEST(PlateStatics, SimplySupportedOnRollersMatchesKirchhoff) {
   // At rest the supports carry the whole load (relative residual set by the rest thresholds).
   EXPECT_NEAR(r.reaction_z, -r.applied_z, 1e-3 * r.applied_z);
   EXPECT_NEAR(r.applied_z, 7.0, 1e-6 * 7.0);  // q a^2; the follower load tilts by the slope only
+  // The corners shared by the rollers and the in-plane pins split their reactions by direction: the
+  // rollers take only z, the corner pins only their in-plane components.
+  ASSERT_EQ(r.reactions.size(), 3u);
+  EXPECT_LE(std::hypot(r.reactions[0][0], r.reactions[0][1]), 1e-12);
+  EXPECT_EQ(r.reactions[1][2], 0.0);
+  EXPECT_EQ(r.reactions[2][0], 0.0);
+  EXPECT_EQ(r.reactions[2][2], 0.0);
 }
 
 TEST(PlateStatics, ClampedQuarterPlateWithTwoSymmetryPlanesMatchesKirchhoff) {
