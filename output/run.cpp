@@ -16,6 +16,7 @@
 #include "output/progress.hpp"
 #include "output/seam_metrics.hpp"
 #include "output/step_watchdog.hpp"
+#include "output/verification.hpp"
 #include "render_mesh/atomic_write.hpp"
 #include "render_mesh/cracked_tessellation.hpp"
 #include "render_mesh/exporter.hpp"
@@ -264,22 +265,25 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
   prepare_output(options.out_dir, options.keep_old_frames, log);
   FrameWriter frames(model, options.out_dir);
   BrittleWriter brittle(model, options.out_dir);  // fracture events of brittle solids (docs/brittle.md)
+  VerificationRecorder verification(sim, options.out_dir);  // probes, reactions, rest (docs/cli.md)
   double peak_kinetic = 0;
   auto finish = [&](const std::string& status, const std::string& error) {
     Summary s = make_summary(sim, frames, threads, peak_kinetic, status);
     if (!error.empty()) s.error = error;
     if (!model.brittle_solids.empty()) s.brittle = brittle.reports(sim);
+    verification.finish(sim, s);
     s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     render_mesh::write_file_atomically(options.out_dir / "summary.json", to_json(s).dump(2) + "\n");
     return s;
   };
   auto stop_requested = [&] { return interrupt_signal() != 0 || (options.should_stop && options.should_stop()); };
 
-  bool stopped = false;
+  bool stopped = false, resting = false;
   try {
     watchdog.record(0, 0, last_frame, 0, Activity::writing_frame);
     frames.write(sim, 0);
-    for (int f = 1; f <= last_frame && !stopped; ++f) {
+    verification.at_frame(sim, 0);
+    for (int f = 1; f <= last_frame && !stopped && !resting; ++f) {
       // The steps of sim.advance_to, taken here so that progress, callbacks and interrupts see every
       // step (sim/ does no I/O); advance_to then only lands the clock exactly on the frame time.
       const double t = f / model.time.frame_rate;
@@ -292,16 +296,19 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
         const double n = std::ceil(remaining / sim.stable_dt() - 1e-9);
         watchdog.record(sim.time(), f, last_frame, sim.steps(), Activity::stepping);
         sim.step(n <= 1 ? remaining : remaining / n);
+        resting = verification.after_step(sim);
         if (options.on_step) options.on_step(StepReport{sim.steps(), sim.time(), model.time.end, f, last_frame});
         if (progress.due())
           progress.update(sim.time(), "frame " + std::to_string(f) + "/" + std::to_string(last_frame) + ", step " +
                                           std::to_string(sim.steps()));
+        if (resting) break;  // time.until_rest: the last frame holds the state at rest
       }
       if (stopped) break;
-      sim.advance_to(t);
+      if (!resting) sim.advance_to(t);
       peak_kinetic = std::max(peak_kinetic, sim.kinetic_energy());
       watchdog.record(sim.time(), f, last_frame, sim.steps(), Activity::writing_frame);
       frames.write(sim, f);
+      verification.at_frame(sim, f);
       progress.update(sim.time(), "frame " + std::to_string(f) + "/" + std::to_string(last_frame) + ", step " +
                                       std::to_string(sim.steps()));
       brittle.write_new_events(sim);

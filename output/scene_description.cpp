@@ -10,8 +10,9 @@ std::string describe_scene(const scene::Model& scene) {
   for (const scene::model::Shell& s : scene.shells) control_points += s.surface.num_u() * s.surface.num_v();
   os << "scene \"" << scene.name << "\": " << scene.shells.size() << " shell(s), " << control_points
      << " control points, " << scene.solids.size() << " solid(s), " << scene.colliders.size() << " collider(s), "
-     << scene.pins.size() << " pin(s), end time "
-     << scene.time.end << " s at " << scene.time.frame_rate << " frames/s, output " << scene.output.format << " at "
+     << scene.pins.size() << " pin(s), " << scene.loads.size() << " load(s), " << scene.output.probes.size()
+     << " probe(s), end time "
+     << scene.time.end << " s" << (scene.time.until_rest ? " (or until rest)" : "") << " at " << scene.time.frame_rate << " frames/s, output " << scene.output.format << " at "
      << scene.output.resolution_u << " x " << scene.output.resolution_v << " quads per patch\n";
   for (const scene::model::Shell& s : scene.shells) {
     os << "  " << s.name << ": " << s.shape << " patch, " << s.surface.num_u() << " x " << s.surface.num_v()

@@ -109,6 +109,41 @@ struct BrittleSolidReport {
   std::vector<std::pair<std::string, double>> stage_seconds;
 };
 
+// probes[i]: one output.probes entry, every sample (docs/cli.md).
+struct ProbeRow {
+  double time = 0;
+  std::array<double, 3> position{}, displacement{}, velocity{};
+  std::array<double, 6> stress{};  // Cauchy xx, yy, zz, xy, yz, xz [Pa]
+};
+struct ProbeReport {
+  std::string name, shell, every, file;  // file: the CSV, relative to the run folder
+  std::vector<ProbeRow> samples;
+};
+
+// pins[i]: a scene pin and its support reaction over the last step [N].
+struct PinReport {
+  std::string pin, name, shell;
+  std::array<double, 3> reaction{};
+};
+
+// loads[i]: a scene load and the total force it applied in the last step [N].
+struct LoadReport {
+  std::string load, type, shell;
+  std::array<double, 3> applied{};
+};
+
+// until_rest: the criterion and whether (and when) the run reached rest.
+struct RestReport {
+  bool reached = false;
+  std::optional<double> time;
+  double kinetic_energy = 0, speed = 0, duration = 0;
+};
+
+// The kinetic energy at every written frame.
+struct EnergyHistory {
+  std::vector<double> time, kinetic_energy;
+};
+
 struct Metrics {
   MeshReport mesh;  // written at the top level of metrics
   double max_collider_penetration = 0, max_collider_penetration_cells = 0;
@@ -132,8 +167,18 @@ struct Summary {
   Metrics metrics;
   std::optional<std::vector<CrackGraphReport>> crack_graphs;
   std::optional<std::vector<BrittleSolidReport>> brittle;  // scenes with brittle solids
+  // Verification output (docs/cli.md): probes, pin reactions, applied loads, rest, energy per frame.
+  std::vector<ProbeReport> probes;
+  std::vector<PinReport> pins;
+  std::vector<LoadReport> loads;
+  std::optional<RestReport> until_rest;
+  EnergyHistory kinetic_energy_history;
   double wall_seconds = 0;
 };
+
+// The verification sections of summary.json (output/verification_json.cpp).
+void write_verification(const Summary& s, nlohmann::json& j);
+void read_verification(const nlohmann::json& j, Summary& s);
 
 // The "brittle" section of summary.json (output/brittle_output.cpp).
 nlohmann::json brittle_json(const std::vector<BrittleSolidReport>& reports);

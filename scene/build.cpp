@@ -24,6 +24,7 @@ model::TimeSettings build_time(const Time& t) {
   out.cfl = t.cfl.value_or(out.cfl);
   out.allow_substepping = t.allow_substepping.value_or(out.allow_substepping);
   out.enforce_stability_bound = t.enforce_stability_bound.value_or(out.enforce_stability_bound);
+  if (t.until_rest) out.until_rest = model::RestCriterion{*t.until_rest->kinetic_energy, *t.until_rest->speed, *t.until_rest->duration};
   return out;
 }
 
@@ -36,6 +37,7 @@ model::OutputSettings build_output(const Output& o) {
   }
   out.triangulate = o.triangulate.value_or(false);
   out.double_precision = o.precision == "double";
+  out.control_points = o.control_points.value_or(false);
   return out;
 }
 
@@ -79,6 +81,10 @@ Model build(const Scene& input) {
   for (size_t i = 0; i < scene.colliders.size(); ++i)
     m.colliders.push_back(detail::build_collider(b, scene.colliders[i], i));
   for (size_t i = 0; i < scene.pins.size(); ++i) m.pins.push_back(detail::build_pin(b, scene.pins[i], i, m.shells));
+  detail::check_pin_conflicts(b, m.pins, m.shells);
+  for (size_t i = 0; i < scene.loads.size(); ++i) m.loads.push_back(detail::build_load(b, scene.loads[i], i, m.shells));
+  for (size_t i = 0; i < scene.output.probes.size(); ++i)
+    m.output.probes.push_back(detail::build_probe(b, scene.output.probes[i], i, m.shells));
   for (size_t i = 0; i < scene.interfaces.size(); ++i) {
     model::InterfaceSpec spec = detail::build_interface(b, scene.interfaces[i], i, m.shells);
     (spec.coupled ? m.interfaces : m.uncoupled_seams).push_back(std::move(spec));

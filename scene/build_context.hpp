@@ -39,6 +39,15 @@ model::SolidBody build_solid(const Builder& b, const Solid& s, size_t index);
 model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t index);  // build_brittle.cpp
 model::ColliderSpec build_collider(const Builder& b, const Collider& c, size_t index);
 mpm::RigidMotion build_motion(const Motion& m);
+// A shell named by name or by index; errors at `path`.
+size_t shell_index(const Builder& b, const ShellRef& ref, const std::string& path, const std::vector<model::Shell>& shells);
+// Refuses two pins holding one control point when one of them moves it.
+void check_pin_conflicts(const Builder& b, const std::vector<model::Pin>& pins, const std::vector<model::Shell>& shells);
+// build_loads.cpp: loads, probes (parameter points normalised to [0, 1]) and initial velocity fields.
+model::Load build_load(const Builder& b, const Load& l, size_t index, const std::vector<model::Shell>& shells);
+model::Probe build_probe(const Builder& b, const Probe& p, size_t index, const std::vector<model::Shell>& shells);
+std::vector<Eigen::Vector3d> build_velocity_field(const Builder& b, const VelocityField& f, const nurbs::NurbsSurface& surf,
+                                                  const std::string& path);
 model::Pin build_pin(const Builder& b, const Pin& p, size_t index, const std::vector<model::Shell>& shells);
 model::InterfaceSpec build_interface(const Builder& b, const Interface& i, size_t index,
                                      const std::vector<model::Shell>& shells);

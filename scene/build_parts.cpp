@@ -30,19 +30,6 @@ mpm::Boundary boundary_of(const Opt<std::string>& b) {
   return b == "sticky" ? mpm::Boundary::Sticky : b == "slip" ? mpm::Boundary::Slip : mpm::Boundary::Friction;
 }
 
-// A shell named by name or by index; errors at `path`.
-size_t shell_index(const Builder& b, const ShellRef& ref, const std::string& path, const std::vector<model::Shell>& shells) {
-  if (const auto* name = std::get_if<std::string>(&ref)) {
-    for (size_t k = 0; k < shells.size(); ++k)
-      if (shells[k].name == *name) return k;
-    b.fail(path, "no shell is named \"" + *name + "\"");
-  }
-  if (shells.empty()) b.fail(path, "the scene has no shells");
-  const int k = std::get<int>(ref);
-  const Range allowed = Range::closed(0, static_cast<double>(shells.size()) - 1);
-  if (!allowed.contains(k)) b.fail(path, allowed.violation(k));
-  return static_cast<size_t>(k);
-}
 
 // Flat indices of the control points within six rows of `side` (the coupled rows and their neighbours).
 std::vector<int> rows_near_side(const nurbs::NurbsSurface& s, coupling::Side side) {
@@ -78,6 +65,20 @@ model::VerifyLimit limit_of(const Opt<VerifyLimit>& l) {
 bool contains(const std::vector<int>& list, int k) { return std::find(list.begin(), list.end(), k) != list.end(); }
 
 }  // namespace
+
+// A shell named by name or by index; errors at `path`.
+size_t shell_index(const Builder& b, const ShellRef& ref, const std::string& path, const std::vector<model::Shell>& shells) {
+  if (const auto* name = std::get_if<std::string>(&ref)) {
+    for (size_t k = 0; k < shells.size(); ++k)
+      if (shells[k].name == *name) return k;
+    b.fail(path, "no shell is named \"" + *name + "\"");
+  }
+  if (shells.empty()) b.fail(path, "the scene has no shells");
+  const int k = std::get<int>(ref);
+  const Range allowed = Range::closed(0, static_cast<double>(shells.size()) - 1);
+  if (!allowed.contains(k)) b.fail(path, allowed.violation(k));
+  return static_cast<size_t>(k);
+}
 
 model::SolidBody build_solid(const Builder& b, const Solid& s, size_t index) {
   const std::string path = index_path("/solids", index);
@@ -152,13 +153,65 @@ model::ColliderSpec build_collider(const Builder& b, const Collider& c, size_t i
   return out;
 }
 
+namespace {
+
+// The control points of the first `rows` rows from a patch edge, with the edge's parameter point beside
+// each (where the edge frame is taken).
+struct EdgeRow {
+  int index;
+  double u, v;
+};
+std::vector<EdgeRow> edge_rows(const nurbs::NurbsSurface& surf, const std::string& side, int rows) {
+  const int nu = surf.num_u(), nv = surf.num_v();
+  const auto& ku = surf.knots_u();
+  const auto& kv = surf.knots_v();
+  std::vector<EdgeRow> out;
+  if (side == "u0" || side == "u1") {
+    const double u = side == "u0" ? ku.domain_begin() : ku.domain_end();
+    for (int r = 0; r < std::min(rows, nu); ++r)
+      for (int j = 0; j < nv; ++j) out.push_back({(side == "u0" ? r : nu - 1 - r) + nu * j, u, kv.greville(j)});
+  } else {
+    const double v = side == "v0" ? kv.domain_begin() : kv.domain_end();
+    for (int r = 0; r < std::min(rows, nv); ++r)
+      for (int i = 0; i < nu; ++i) out.push_back({i + nu * (side == "v0" ? r : nv - 1 - r), ku.greville(i), v});
+  }
+  return out;
+}
+
+// The unit directions a component list names in the pin's frame; `edge` is the edge frame at the point
+// (columns: surface normal, edge tangent, in-surface direction across the edge).
+std::vector<Eigen::Vector3d> held_directions(const Pin& p, const Eigen::Matrix3d& edge) {
+  const std::string frame = p.frame.value_or("global");
+  std::vector<Eigen::Vector3d> out;
+  if (frame == "global") {
+    for (const std::string& c : *p.components) out.push_back(Eigen::Vector3d::Unit(c == "x" ? 0 : c == "y" ? 1 : 2));
+    return out;
+  }
+  Eigen::Matrix3d basis = edge;  // normal, then two tangential directions
+  if (frame == "plane") {
+    const Eigen::Vector3d n = vec3(*p.plane_normal).normalized();
+    const Eigen::Vector3d t1 = n.unitOrthogonal();
+    basis << n, t1, n.cross(t1);
+  }
+  for (const std::string& c : *p.components) {
+    if (c == "normal") out.push_back(basis.col(0));
+    if (c == "along" || c == "tangential") out.push_back(basis.col(1));
+    if (c == "across" || c == "tangential") out.push_back(basis.col(2));
+  }
+  return out;
+}
+
+}  // namespace
+
 model::Pin build_pin(const Builder& b, const Pin& p, size_t index, const std::vector<model::Shell>& shells) {
   const std::string path = index_path("/pins", index);
   model::Pin pin;
   pin.json_path = path;
+  pin.name = p.name.value_or("pin" + std::to_string(index));
   pin.shell = shell_index(b, *p.shell, path + "/shell", shells);
   const auto& surf = shells[pin.shell].surface;
   const int nu = surf.num_u(), nv = surf.num_v();
+  std::vector<Eigen::Matrix3d> frames;  // edge frame per selected point (edges only)
   if (p.region) {
     // Control points whose Greville abscissae, normalised to [0, 1] over the patch, lie in the box.
     const Vec2 u = p.region->u.value_or(Vec2{0, 1}), v = p.region->v.value_or(Vec2{0, 1});
@@ -173,7 +226,7 @@ model::Pin build_pin(const Builder& b, const Pin& p, size_t index, const std::ve
       }
     if (pin.control_points.empty())
       b.fail(path + "/region", "the region selects no control point of shell \"" + shells[pin.shell].name + "\"");
-  } else {
+  } else if (p.control_points) {
     const std::vector<Int2>& pts = *p.control_points;
     for (size_t k = 0; k < pts.size(); ++k) {
       const int ci = pts[k][0], cj = pts[k][1];
@@ -183,9 +236,67 @@ model::Pin build_pin(const Builder& b, const Pin& p, size_t index, const std::ve
                    std::to_string(nu - 1) + ", 0.." + std::to_string(nv - 1) + "]");
       pin.control_points.push_back(ci + nu * cj);
     }
+  } else {
+    const int rows = p.rows.value_or(1);
+    for (size_t e = 0; e < p.edges->size(); ++e) {
+      const std::string& side = (*p.edges)[e];
+      const int across = side[0] == 'u' ? nu : nv;
+      if (rows > across)
+        b.fail(path + "/rows", std::to_string(rows) + " rows from edge " + side + " but the patch has " + std::to_string(across));
+      for (const EdgeRow& r : edge_rows(surf, side, rows)) {
+        if (std::find(pin.control_points.begin(), pin.control_points.end(), r.index) != pin.control_points.end())
+          continue;  // a corner of two listed edges: held once (by the first edge's frame)
+        pin.control_points.push_back(r.index);
+        const nurbs::SurfacePoint sp = surf.evaluate(r.u, r.v);
+        Eigen::Vector3d along = (side[0] == 'u' ? sp.dv : sp.du).normalized();
+        Eigen::Matrix3d f;
+        f << sp.normal, along, sp.normal.cross(along);
+        frames.push_back(f);
+      }
+      if (p.symmetry_normal && across < 2)
+        b.fail(path + "/edges/" + std::to_string(e), "a symmetry edge needs a second row of control points");
+    }
+  }
+  if (p.symmetry_normal) {
+    // Each held point's partner: the neighbour one row inwards from its edge.
+    pin.symmetry_normal = vec3(*p.symmetry_normal).normalized();
+    pin.tied.clear();
+    for (int k : pin.control_points) {
+      const int i = k % nu, j = k / nu;
+      int partner = -1;
+      for (const std::string& side : *p.edges) {
+        if (side == "u0" && i == 0) partner = 1 + nu * j;
+        if (side == "u1" && i == nu - 1) partner = nu - 2 + nu * j;
+        if (side == "v0" && j == 0) partner = i + nu;
+        if (side == "v1" && j == nv - 1) partner = i + nu * (nv - 2);
+        if (partner >= 0) break;
+      }
+      pin.tied.push_back(partner);
+    }
+    for (size_t k = 0; k < pin.control_points.size(); ++k) pin.held.push_back({pin.symmetry_normal});
+  } else if (p.components) {
+    for (size_t k = 0; k < pin.control_points.size(); ++k)
+      pin.held.push_back(held_directions(p, frames.empty() ? Eigen::Matrix3d::Identity() : frames[k]));
   }
   if (p.motion) pin.motion = build_motion(*p.motion);
   return pin;
+}
+
+// Two pins on one control point agree only when neither moves it: a moving pin owns its points.
+void check_pin_conflicts(const Builder& b, const std::vector<model::Pin>& pins, const std::vector<model::Shell>& shells) {
+  for (size_t a = 0; a < pins.size(); ++a)
+    for (size_t c = 0; c < a; ++c) {
+      if (pins[a].shell != pins[c].shell) continue;
+      const bool a_moves = b.scene.pins[a].motion.has_value(), c_moves = b.scene.pins[c].motion.has_value();
+      if (!a_moves && !c_moves) continue;
+      for (int k : pins[a].control_points)
+        if (std::find(pins[c].control_points.begin(), pins[c].control_points.end(), k) != pins[c].control_points.end()) {
+          const int nu = shells[pins[a].shell].surface.num_u();
+          b.fail(pins[a].json_path, "control point [" + std::to_string(k % nu) + ", " + std::to_string(k / nu) +
+                                        "] is also held by " + pins[c].json_path +
+                                        " and one of them moves it: the pins' components conflict");
+        }
+    }
 }
 
 namespace {

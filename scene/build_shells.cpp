@@ -152,6 +152,8 @@ model::Shell build_shell(const Builder& b, const Shell& s, size_t index) {
     }
     cuts.push_back(std::move(cut));
   }
+  std::vector<Eigen::Vector3d> field;
+  if (s.initial_velocity_field) field = build_velocity_field(b, *s.initial_velocity_field, surface, path + "/initial_velocity_field");
   return model::Shell{s.name.value_or("shell" + std::to_string(index)),
                       *s.patch->type,
                       std::move(surface),
@@ -159,7 +161,8 @@ model::Shell build_shell(const Builder& b, const Shell& s, size_t index) {
                       material_of(*s.material),
                       quadrature,
                       vec3_or(s.initial_velocity, {0, 0, 0}),
-                      std::move(cuts)};
+                      std::move(cuts),
+                      std::move(field)};
 }
 
 }  // namespace shellfrac::scene::detail

@@ -6,10 +6,11 @@
 //
 // A visitor V provides, for a key and a field:
 //   number, integer, boolean, string, choice, numbers<N>, integers<N>, number_list, points2, points3,
-//   index_pairs, shell_ref, limit, object (optional or plain sub-object), objects (array of objects),
+//   index_pairs, shell_ref, choices (a list of strings from a set), limit, object (optional or plain sub-object), objects (array of objects),
 //   and check(key, fn): fn() returns an error message for the key, or "" when the rule holds.
 // Cross-references (shell names, pins against control nets, interface edges, prescribed cuts against the
 // patch domain, mesh files) need the built geometry and are checked by scene::build().
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -140,6 +141,23 @@ void describe(V& v, Cut& c) {
 }
 
 template <class V>
+void describe(V& v, VelocityField& f) {
+  v.choice("shape", f.shape, {"sine", "linear", "list"}, kRequired);
+  if (f.shape == "sine") {
+    v.integers("modes", f.modes, Range::closed(1, 1000), kRequired);
+    v.number("amplitude", f.amplitude, Range::any(), kRequired);
+    v.numbers("direction", f.direction, Range::any(), kRequired);
+    v.check("direction", [&] { return detail::nonzero_direction(f.direction); });
+  } else if (f.shape == "linear") {
+    v.numbers("at_origin", f.at_origin, Range::any());
+    v.numbers("per_u", f.per_u, Range::any());
+    v.numbers("per_v", f.per_v, Range::any());
+  } else if (f.shape == "list") {
+    v.points3("values", f.values, kRequired);
+  }
+}
+
+template <class V>
 void describe(V& v, Shell& s) {
   v.string("name", s.name);
   v.object("patch", s.patch, kRequired);
@@ -147,6 +165,7 @@ void describe(V& v, Shell& s) {
   v.object("material", s.material, kRequired);
   v.object("quadrature", s.quadrature);
   v.numbers("initial_velocity", s.initial_velocity, Range::any());
+  v.object("initial_velocity_field", s.initial_velocity_field);
   v.objects("cuts", s.cuts, 0);
 }
 
@@ -373,19 +392,96 @@ void describe(V& v, PinRegion& r) {
   v.numbers("v", r.v, Range::closed(0, 1));
 }
 
+namespace detail {
+// The components a pin may hold in its frame (scene.hpp, Pin).
+inline std::vector<std::string> pin_components(const Opt<std::string>& frame) {
+  if (frame == "plane") return {"normal", "tangential"};
+  if (frame == "edge") return {"normal", "along", "across", "tangential"};
+  return {"x", "y", "z"};
+}
+// Why a pin's component list holds a direction twice, or "".
+inline std::string repeated_component(const std::vector<std::string>& c) {
+  auto has = [&](const char* name) { return std::count(c.begin(), c.end(), name); };
+  for (const std::string& name : c)
+    if (has(name.c_str()) > 1) return "component \"" + name + "\" is given twice";
+  if (has("tangential") && (has("along") || has("across")))
+    return "\"tangential\" already holds \"along\" and \"across\": the components conflict";
+  return "";
+}
+// Why a ramp's keyframe k does not follow keyframe k - 1 in time, or "".
+inline std::string ramp_problem(const std::vector<Vec2>& ramp, size_t k) {
+  return k > 0 && !(ramp[k][0] > ramp[k - 1][0]) ? "ramp times must increase strictly (keyframe " + std::to_string(k) +
+                                                       " at t = " + std::to_string(ramp[k][0]) + " s follows t = " +
+                                                       std::to_string(ramp[k - 1][0]) + " s)"
+                                                 : "";
+}
+}  // namespace detail
+
 template <class V>
 void describe(V& v, Pin& p) {
+  v.string("name", p.name);
   v.shell_ref("shell", p.shell, kRequired);
   v.object("region", p.region);
   v.index_pairs("control_points", p.control_points, 1);
-  v.object("motion", p.motion);
+  v.choices("edges", p.edges, {"u0", "u1", "v0", "v1"}, 1);
+  v.integer("rows", p.rows, Range::closed(1, 1000));
   v.check("", [&] {
-    return p.region.has_value() == p.control_points.has_value()
-               ? "a pin needs exactly one of \"region\" or \"control_points\""
-               : "";
+    const int given = int(p.region.has_value()) + int(p.control_points.has_value()) + int(p.edges.has_value());
+    return given != 1 ? "a pin needs exactly one of \"region\", \"control_points\" or \"edges\"" : "";
+  });
+  v.check("rows", [&] { return p.rows && !p.edges ? "\"rows\" counts rows from \"edges\"" : ""; });
+  v.check("edges", [&]() -> std::string {
+    if (!p.edges) return "";
+    for (size_t i = 0; i < p.edges->size(); ++i)
+      for (size_t k = 0; k < i; ++k)
+        if ((*p.edges)[i] == (*p.edges)[k]) return "edge \"" + (*p.edges)[i] + "\" is given twice";
+    return "";
   });
   v.check("region", [&] { return p.region && p.region->u && (*p.region->u)[0] > (*p.region->u)[1] ? "u range is reversed" : ""; });
   v.check("region", [&] { return p.region && p.region->v && (*p.region->v)[0] > (*p.region->v)[1] ? "v range is reversed" : ""; });
+  v.choice("frame", p.frame, {"global", "plane", "edge"});
+  v.choices("components", p.components, detail::pin_components(p.frame), 1);
+  v.check("components", [&] { return p.components ? detail::repeated_component(*p.components) : std::string(); });
+  v.numbers("plane_normal", p.plane_normal, Range::any());
+  v.check("plane_normal", [&] { return detail::nonzero_direction(p.plane_normal); });
+  v.check("plane_normal", [&] {
+    return (p.frame == "plane") != p.plane_normal.has_value() ? "\"plane_normal\" goes with \"frame\": \"plane\" (and only with it)" : "";
+  });
+  v.check("frame", [&] { return p.frame == "edge" && !p.edges ? "\"frame\": \"edge\" needs the pin's \"edges\"" : ""; });
+  v.check("components", [&] {
+    return p.frame && *p.frame != "global" && !p.components ? "a pin in the \"" + *p.frame + "\" frame needs its \"components\"" : std::string();
+  });
+  v.numbers("symmetry_normal", p.symmetry_normal, Range::any());
+  v.check("symmetry_normal", [&] { return detail::nonzero_direction(p.symmetry_normal); });
+  v.check("symmetry_normal", [&] {
+    if (!p.symmetry_normal) return "";
+    if (!p.edges) return "a symmetry pin needs \"edges\"";
+    if (p.rows && *p.rows != 1) return "a symmetry pin holds one edge row and ties the next: \"rows\" must be 1";
+    if (p.frame || p.components || p.motion) return "a symmetry pin takes no \"frame\", \"components\" or \"motion\"";
+    return "";
+  });
+  v.object("motion", p.motion);
+}
+
+template <class V>
+void describe(V& v, Load& l) {
+  v.choice("type", l.type, {"pressure", "point", "edge", "body"}, kRequired);
+  v.shell_ref("shell", l.shell, kRequired);
+  if (l.type == "pressure") {
+    v.number("pressure", l.pressure, Range::any(), kRequired);
+  } else if (l.type == "point") {
+    v.numbers("at", l.at, Range::closed(0, 1), kRequired);
+    v.numbers("force", l.force, Range::any(), kRequired);
+  } else if (l.type == "edge") {
+    v.choice("edge", l.edge, {"u0", "u1", "v0", "v1"}, kRequired);
+    v.numbers("force_per_length", l.force_per_length, Range::any(), kRequired);
+  } else if (l.type == "body") {
+    v.numbers("acceleration", l.acceleration, Range::any(), kRequired);
+  }
+  v.points2("ramp", l.ramp, 1);
+  if (l.ramp)
+    for (size_t k = 0; k < l.ramp->size(); ++k)
+      v.check("ramp/" + std::to_string(k) + "/0", [&l, k] { return detail::ramp_problem(*l.ramp, k); });
 }
 
 template <class V>
@@ -423,6 +519,13 @@ void describe(V& v, Interface& i) {
 }
 
 template <class V>
+void describe(V& v, UntilRest& r) {
+  v.number("kinetic_energy", r.kinetic_energy, Range::non_negative(), kRequired);
+  v.number("speed", r.speed, Range::non_negative(), kRequired);
+  v.number("duration", r.duration, Range::non_negative(), kRequired);
+}
+
+template <class V>
 void describe(V& v, Time& t) {
   v.number("end", t.end, Range::non_negative());
   v.number("frame_rate", t.frame_rate, Range::positive());
@@ -433,6 +536,22 @@ void describe(V& v, Time& t) {
   v.check("enforce_stability_bound", [&] {
     return t.enforce_stability_bound == false && !t.dt ? "turning the stability bound off needs an explicit \"dt\"" : "";
   });
+  v.object("until_rest", t.until_rest);
+}
+
+template <class V>
+void describe(V& v, Probe& p) {
+  v.string("name", p.name, kRequired);
+  v.check("name", [&] {  // the probe's CSV is named after it
+    return p.name && (p.name->empty() || p.name->find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.") !=
+                                             std::string::npos || (*p.name)[0] == '.')
+               ? "a probe name names its CSV file: use letters, digits, '_', '-' and '.' (not first)"
+               : "";
+  });
+  v.shell_ref("shell", p.shell, kRequired);
+  // Normalised parameter coordinates: [0, 1] spans the patch, so anything outside is off the patch.
+  v.numbers("at", p.at, Range::closed(0, 1), kRequired);
+  v.choice("every", p.every, {"step", "frame"});
 }
 
 template <class V>
@@ -442,6 +561,15 @@ void describe(V& v, Output& o) {
   v.integers("resolution", o.resolution, Range::closed(1, 4096));
   v.boolean("triangulate", o.triangulate);
   v.choice("precision", o.precision, {"float", "double"});
+  v.objects("probes", o.probes, 0);
+  for (size_t i = 0; i < o.probes.size(); ++i)
+    for (size_t k = 0; k < i; ++k)
+      v.check("probes/" + std::to_string(i) + "/name", [&o, i, k] {
+        return o.probes[i].name && o.probes[i].name == o.probes[k].name
+                   ? "probe name \"" + *o.probes[i].name + "\" is already used by /output/probes/" + std::to_string(k)
+                   : std::string();
+      });
+  v.boolean("control_points", o.control_points);
 }
 
 template <class V>
@@ -480,6 +608,7 @@ void describe(V& v, Scene& s) {
   v.check("shells", [&] { return s.shells.empty() && s.solids.empty() ? "a scene needs at least one shell or solid" : ""; });
   v.objects("colliders", s.colliders, 0);
   v.objects("pins", s.pins, 0);
+  v.objects("loads", s.loads, 0);
   v.objects("interfaces", s.interfaces, 0);
   v.object("verify", s.verify);
 }

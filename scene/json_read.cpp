@@ -65,6 +65,19 @@ class JsonReader {
     string(key, x, need);
     if (x) at_.choice(key, *x, allowed);
   }
+  void choices(const std::string& key, Opt<std::vector<std::string>>& x, const std::vector<std::string>& allowed,
+               size_t min_length, Need need = kOptional) {
+    const Json* v = array(key, need, min_length);
+    if (!v) return;
+    std::vector<std::string> out;
+    for (size_t i = 0; i < v->size(); ++i) {
+      const std::string element = key + "/" + std::to_string(i);
+      if (!(*v)[i].is_string()) at_.fail(element, "expected a string, got " + json_type_name((*v)[i]));
+      out.push_back((*v)[i].get<std::string>());
+      at_.choice(element, out.back(), allowed);
+    }
+    x = std::move(out);
+  }
   void quality(const std::string& key, Opt<std::string>& x) {
     const Json* v = find(key, kOptional);
     if (!v) return;

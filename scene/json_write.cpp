@@ -31,6 +31,10 @@ class JsonWriter {
   void choice(const std::string& key, const Opt<std::string>& x, const std::vector<std::string>&, Need = kOptional) {
     if (x) json[key] = *x;
   }
+  void choices(const std::string& key, const Opt<std::vector<std::string>>& x, const std::vector<std::string>&, size_t,
+               Need = kOptional) {
+    if (x) json[key] = *x;
+  }
   void quality(const std::string& key, const Opt<std::string>& x) {
     if (x) json[key] = *x;
   }

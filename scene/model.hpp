@@ -80,6 +80,53 @@ struct Shell {
   shell::QuadratureRule quadrature;
   Eigen::Vector3d initial_velocity = Eigen::Vector3d::Zero();
   std::vector<Cut> cuts;
+  // Per control point, added to initial_velocity ("initial_velocity_field"); empty when not given.
+  std::vector<Eigen::Vector3d> initial_velocity_field;
+};
+
+// A piecewise-linear factor of time through keyframes (t, factor), constant before the first and after
+// the last; no keyframes: 1.
+struct Ramp {
+  std::vector<Eigen::Vector2d> keys;  // times strictly increasing (checked when the scene is read)
+  double at(double t) const {
+    if (keys.empty()) return 1.0;
+    if (t <= keys.front().x()) return keys.front().y();
+    for (size_t k = 1; k < keys.size(); ++k)
+      if (t <= keys[k].x()) {
+        const double s = (t - keys[k - 1].x()) / (keys[k].x() - keys[k - 1].x());
+        return (1.0 - s) * keys[k - 1].y() + s * keys[k].y();
+      }
+    return keys.back().y();
+  }
+};
+
+// An external load on one shell (scene key "loads"), turned into generalized control-point forces
+// f_k = integral of R_k t dA (thesis Eq. 4.8 with an applied traction) by sim/loads.cpp.
+struct Load {
+  enum class Kind { Pressure, Point, Edge, Body };
+  Kind kind = Kind::Pressure;
+  size_t shell = 0;
+  double pressure = 0;                                 // Pressure [Pa], along a_1 x a_2 of the deformed surface
+  Eigen::Vector2d at = Eigen::Vector2d::Zero();        // Point: parameter (u, v) of the patch
+  Eigen::Vector3d vector = Eigen::Vector3d::Zero();    // Point: force [N]; Edge: [N/m]; Body: acceleration [m/s^2]
+  int edge = 0;                                        // Edge: 0 u0, 1 u1, 2 v0, 3 v1
+  Ramp ramp;
+  std::string json_path;
+};
+
+// A probe (output.probes): a parameter point of a shell sampled every step or every frame.
+struct Probe {
+  std::string name;
+  size_t shell = 0;
+  Eigen::Vector2d at = Eigen::Vector2d::Zero();  // parameter (u, v) of the patch
+  bool every_step = false;
+};
+
+// time.until_rest (docs/scene-format.md).
+struct RestCriterion {
+  double kinetic_energy = 0;  // [J]
+  double speed = 0;           // largest control-point speed [m/s]
+  double duration = 0;        // both below their thresholds this long [s]
 };
 
 // A volumetric solid (Type-I particles) sampled inside an analytic shape.
@@ -127,12 +174,21 @@ struct ColliderSpec {
   mpm::Collider collider;
 };
 
-// Dirichlet constraint: the listed control points follow `motion` from their initial positions.
+// Dirichlet constraint: the listed control points follow `motion` from their initial positions, in all
+// components or in the directions `held` (sim/pin_system.hpp). A symmetry pin also ties each held point
+// to its partner in the next row in the directions of the symmetry plane.
 struct Pin {
+  std::string name;  // the scene's, or "pin<index>"
   size_t shell = 0;
   std::vector<int> control_points;
+  // Per control point, the orthonormal directions held (1 to 3); empty: all three components.
+  std::vector<std::vector<Eigen::Vector3d>> held;
+  // Symmetry pins: the partner of each control point in the next row, and the plane's unit normal.
+  std::vector<int> tied;
+  Eigen::Vector3d symmetry_normal = Eigen::Vector3d::Zero();
   mpm::RigidMotion motion;
   std::string json_path;  // where the pin was defined, for messages
+  bool holds_all(size_t k) const { return held.empty() || held[k].size() == 3; }
 };
 
 // One pass/fail limit of `shellfrac verify coupling`: no value takes the default (sim/seam_metrics.hpp),
@@ -181,7 +237,8 @@ struct CrackSettings {
 };
 
 struct TimeSettings {
-  double end = 1.0;                // simulated seconds
+  double end = 1.0;                // simulated seconds (the latest end with until_rest)
+  std::optional<RestCriterion> until_rest;
   double frame_rate = 24.0;        // frames written per simulated second
   std::optional<double> dt;        // fixed step [s]; unset means "from the stability bound"
   double cfl = 0.5;                // safety factor on the stability bound, in (0, 1]
@@ -197,6 +254,8 @@ struct OutputSettings {
   int resolution_v = 32;       // ... and along v
   bool triangulate = false;    // write triangles only (formats that need them are triangulated anyway)
   bool double_precision = false;  // 17 significant digits where the format allows it
+  std::vector<Probe> probes;
+  bool control_points = false;    // write frames/frame_NNNNN.control_points.csv
 };
 
 struct Model {
@@ -212,6 +271,7 @@ struct Model {
   std::vector<BrittleBody> brittle_solids;  // solids with "fracture": run by the brittle solver
   std::vector<ColliderSpec> colliders;
   std::vector<Pin> pins;
+  std::vector<Load> loads;
   CrackSettings cracks;
   std::vector<InterfaceSpec> interfaces;
   // Interfaces declared with "continuity": "none": the edges are checked and measured like the coupled

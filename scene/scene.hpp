@@ -80,6 +80,20 @@ struct Cut {
   Opt<bool> closed;
 };
 
+// A per-control-point initial velocity from one of a fixed set of shapes over the normalised parameter
+// coordinates (s, t) in [0, 1]^2 of each control point's Greville point (no expressions are evaluated):
+//   "sine":   amplitude * direction * sin(m pi s) sin(n pi t), modes = [m, n];
+//   "linear": at_origin + s * per_u + t * per_v;
+//   "list":   one velocity per control point, u running fastest.
+struct VelocityField {
+  Opt<std::string> shape;  // "sine", "linear", "list"
+  Opt<Int2> modes;
+  Opt<double> amplitude;
+  Opt<Vec3> direction;
+  Opt<Vec3> at_origin, per_u, per_v;
+  Opt<std::vector<Vec3>> values;
+};
+
 struct Shell {
   Opt<std::string> name;
   Opt<Patch> patch;
@@ -87,6 +101,7 @@ struct Shell {
   Opt<Material> material;
   Quadrature quadrature;
   Opt<Vec3> initial_velocity;
+  Opt<VelocityField> initial_velocity_field;  // added to initial_velocity
   std::vector<Cut> cuts;
 };
 
@@ -207,11 +222,45 @@ struct PinRegion {
   Opt<Vec2> u, v;  // ranges in [0, 1] of the normalised Greville abscissae
 };
 
+// A pin holds control points selected by a parameter region, an index list or patch edges (the first
+// `rows` rows from each named edge). It holds all three components of their motion unless `components`
+// names a subset, in the frame `frame`:
+//   "global": "x", "y", "z";
+//   "plane":  "normal" (along plane_normal), "tangential" (the two directions in that plane);
+//   "edge":   "normal" (the reference surface normal), "along" (the edge tangent), "across" (in the
+//             surface, perpendicular to the edge), "tangential" (along and across); needs "edges".
+// A symmetry pin (symmetry_normal, with edges and rows 1) holds the edge row along the plane's normal and
+// ties the next row to it in the plane's directions (zero slope across the plane).
 struct Pin {
+  Opt<std::string> name;
   Opt<ShellRef> shell;
   Opt<PinRegion> region;
   Opt<std::vector<Int2>> control_points;  // [i, j] pairs
+  Opt<std::vector<std::string>> edges;    // "u0", "u1", "v0", "v1"
+  Opt<int> rows;                          // with edges: rows held from each edge (default 1)
+  Opt<std::string> frame;                 // "global", "plane", "edge"
+  Opt<std::vector<std::string>> components;
+  Opt<Vec3> plane_normal;                 // frame "plane"
+  Opt<Vec3> symmetry_normal;
   Opt<Motion> motion;
+};
+
+// A load on one shell, scaled by the ramp's piecewise-linear factor (keyframes [time, factor], constant
+// before the first and after the last; no ramp: factor 1):
+//   "pressure": follower pressure [Pa] along the deformed surface normal a_3 (positive along a_1 x a_2);
+//   "point":    a force [N] at normalised parameter point `at`, spread through the basis;
+//   "edge":     a force per reference length [N/m] along a patch edge;
+//   "body":     an acceleration [m/s^2] of the shell's mass (a per-shell gravity).
+struct Load {
+  Opt<std::string> type;  // "pressure", "point", "edge", "body"
+  Opt<ShellRef> shell;
+  Opt<double> pressure;
+  Opt<Vec2> at;
+  Opt<Vec3> force;
+  Opt<std::string> edge;
+  Opt<Vec3> force_per_length;
+  Opt<Vec3> acceleration;
+  Opt<std::vector<Vec2>> ramp;
 };
 
 struct Edge {
@@ -244,9 +293,24 @@ struct Interface {
   Opt<InterfaceVerify> verify;
 };
 
+// time.until_rest: the run stops once the kinetic energy and the largest control-point speed have both
+// stayed below their thresholds for `duration` seconds.
+struct UntilRest {
+  Opt<double> kinetic_energy, speed, duration;
+};
+
 struct Time {
   Opt<double> end, frame_rate, dt, cfl;
   Opt<bool> allow_substepping, enforce_stability_bound;
+  Opt<UntilRest> until_rest;
+};
+
+// A probe: a named point of a shell at normalised parameter coordinates, sampled every step or frame.
+struct Probe {
+  Opt<std::string> name;
+  Opt<ShellRef> shell;
+  Opt<Vec2> at;
+  Opt<std::string> every;  // "step", "frame"
 };
 
 struct Output {
@@ -254,6 +318,8 @@ struct Output {
   Opt<Int2> resolution;
   Opt<bool> triangulate;
   Opt<std::string> precision;  // "float", "double"
+  std::vector<Probe> probes;
+  Opt<bool> control_points;  // write every frame's control-point positions (CSV)
 };
 
 struct Grid {
@@ -280,6 +346,7 @@ struct Scene {
   Grid grid;
   std::vector<Collider> colliders;
   std::vector<Pin> pins;
+  std::vector<Load> loads;
   Cracks cracks;
   std::vector<Interface> interfaces;
   Opt<SceneVerify> verify;

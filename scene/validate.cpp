@@ -28,6 +28,12 @@ class Validator {
               Need need = kOptional) {
     if (present(key, x, need)) at_.choice(key, *x, allowed);
   }
+  void choices(const std::string& key, const Opt<std::vector<std::string>>& x, const std::vector<std::string>& allowed,
+               size_t min_length, Need need = kOptional) {
+    if (!present(key, x, need)) return;
+    at_.element_count(key, x->size(), min_length);
+    for (size_t i = 0; i < x->size(); ++i) at_.choice(key + "/" + std::to_string(i), (*x)[i], allowed);
+  }
   void quality(const std::string& key, const Opt<std::string>& x) {
     if (x && !is_quality(*x)) at_.fail(key, "expected draft, default or high, got \"" + *x + "\"");
   }

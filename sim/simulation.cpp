@@ -51,6 +51,8 @@ Simulation::Simulation(const scene::Model& model)
     : model_(model),
       world_(model_),
       pin_reaction_(world_.num_shells(), Eigen::Vector3d::Zero()),
+      pins_(model_, world_),
+      loads_(model_, world_),
       grid_(grid_spacing(model_, world_)),
       cracks_(model_, world_, grid_.dx()),
       seams_(model_, world_),
@@ -81,6 +83,7 @@ Simulation::Simulation(const scene::Model& model)
                                 " x elastic wave bound " + core::format_number(elastic_bound_, 4) +
                                 " s): lower dt, or set \"allow_substepping\": true");
   for (const auto& c : model_.colliders) colliders_.push_back(c.collider);
+  pins_.hold_initial_velocities(world_);
   // Prescribed cuts may already reach a seam.
   seams_.update_cracks(world_, cracks_);
   cracks_.count_state(world_);
@@ -197,14 +200,8 @@ void Simulation::stage_forces(double) {
       throw NumericalError(os.str(), {world_.solid_name(k), "solid", "solid particle", static_cast<long>(bad), steps_, time_});
     }
   }
-  for (auto& r : pin_reaction_) r.setZero();
-  for (const scene::model::Pin& pin : model_.pins) {
-    auto& f = world_.shell(pin.shell).force;
-    for (int k : pin.control_points) {
-      pin_reaction_[pin.shell] -= f[static_cast<size_t>(k)];
-      f[static_cast<size_t>(k)].setZero();
-    }
-  }
+  if (!loads_.empty()) loads_.apply(world_, time_);  // external loads at the start of the step
+  pins_.hold_forces(world_);
   grid_.transfer_forces(world_.particle_sets());  // generalized control-point forces to the grid (thesis Eq. 4.8)
 }
 
@@ -230,6 +227,7 @@ void Simulation::stage_g2p(double dt) {
   const double flip = model_.grid.flip * (model_.damping > 0 ? std::exp(-model_.damping * dt) : 1.0);
   for (mpm::ParticleSet& s : world_.particle_sets()) s.flip = flip;
   grid_.transfer_to_particles(world_.particle_sets());
+  pins_.hold_velocities(world_, dt, time_ + dt);
   seams_.save_start_positions(world_);
   for (size_t i = 0; i < world_.num_shells(); ++i) {
     shell::ShellPatch& p = world_.shell(i);
@@ -241,7 +239,9 @@ void Simulation::stage_g2p(double dt) {
     solid.update(dt);
     mpm::project_particles(solid.x, solid.v, colliders_, time_ + dt);
   }
-  apply_pins(time_ + dt);
+  pins_.hold_positions(world_, time_ + dt);
+  for (auto& r : pin_reaction_) r.setZero();
+  for (size_t i = 0; i < model_.pins.size(); ++i) pin_reaction_[model_.pins[i].shell] += pins_.reaction(i);
 }
 
 void Simulation::stage_coupling(double dt) {
@@ -266,19 +266,11 @@ void Simulation::stage_brittle(double dt) {
   if (!brittle_.empty()) brittle_.advance_to(time_ + dt);
 }
 
-void Simulation::apply_pins(double t) {
-  for (const scene::model::Pin& pin : model_.pins) {
-    shell::ShellPatch& p = world_.shell(pin.shell);
-    std::vector<Eigen::Matrix3d>& affine = world_.affine(pin.shell);
-    const std::vector<Eigen::Vector3d>& rest = world_.initial_positions(pin.shell);
-    const Eigen::Isometry3d pose = pin.motion.pose(t);
-    for (int k : pin.control_points) {
-      const auto c = static_cast<size_t>(k);
-      p.x[c] = pose * rest[c];
-      p.v[c] = pin.motion.velocity_at(p.x[c], t);
-      if (!affine.empty()) affine[c].setZero();
-    }
-  }
+double Simulation::max_control_point_speed() const {
+  double vmax = 0;
+  for (size_t i = 0; i < world_.num_shells(); ++i)
+    for (const auto& v : world_.shell(i).v) vmax = std::max(vmax, v.norm());
+  return vmax;
 }
 
 void Simulation::check_finite() const {

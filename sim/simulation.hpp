@@ -24,6 +24,8 @@
 #include "scene/scene.hpp"
 #include "sim/brittle_system.hpp"
 #include "sim/crack_system.hpp"
+#include "sim/loads.hpp"
+#include "sim/pin_system.hpp"
 #include "sim/seam_system.hpp"
 #include "sim/span.hpp"
 #include "sim/stage_timer.hpp"
@@ -84,8 +86,15 @@ class Simulation {
   size_t num_grid_nodes() const { return grid_.num_grid_nodes(); }
   double kinetic_energy() const { return world_.kinetic_energy(); }
   Eigen::Vector3d linear_momentum() const { return world_.linear_momentum(); }
-  // Total force the pins exert on shell i (minus the elastic force on its pinned control points).
+  // Total force the pins exert on shell i over the last step (sim/pin_system.hpp: minus the force on the
+  // held components, minus the momentum the held components lost, per unit time).
   const Eigen::Vector3d& pin_reaction(size_t shell) const { return pin_reaction_[shell]; }
+  // The same for scene pin i alone (a point held by several pins splits it: sim/pin_system.hpp).
+  const Eigen::Vector3d& pin_set_reaction(size_t pin) const { return pins_.reaction(pin); }
+  // The total force scene load i applied in the last step [N].
+  const Eigen::Vector3d& applied_load(size_t load) const { return loads_.applied(load); }
+  // Largest control-point speed [m/s] (time.until_rest).
+  double max_control_point_speed() const;
   const std::vector<mpm::Collider>& colliders() const { return colliders_; }
 
   const CrackStats& crack_stats() const { return cracks_.stats(); }
@@ -121,12 +130,13 @@ class Simulation {
   };
   static const Stage kStages[];
 
-  void apply_pins(double t);
   void check_finite() const;
 
   scene::Model model_;
   World world_;
-  std::vector<Eigen::Vector3d> pin_reaction_;  // per shell, from the last force stage
+  std::vector<Eigen::Vector3d> pin_reaction_;  // per shell, from the last step
+  PinSystem pins_;
+  LoadSystem loads_;
   std::vector<mpm::Collider> colliders_;
   mpm::SparseGrid grid_;
   CrackSystem cracks_;

@@ -1,6 +1,7 @@
 #include "sim/world.hpp"
 
 #include "scene/scene_error.hpp"
+#include "sim/pin_system.hpp"
 
 namespace shellfrac::sim {
 
@@ -37,8 +38,20 @@ World::World(const scene::Model& model) {
       throw scene::SceneError(model.source, "/shells/" + std::to_string(i) + "/patch", e.what());
     }
     // Every mass-carrying particle of the shell starts with it: control points and Type III particles.
-    for (auto& v : patches_.back().v) v = s.initial_velocity;
-    for (auto& v : patches_.back().shear.v) v = s.initial_velocity;
+    shell::ShellPatch& patch = patches_.back();
+    for (auto& v : patch.v) v = s.initial_velocity;
+    for (auto& v : patch.shear.v) v = s.initial_velocity;
+    if (!s.initial_velocity_field.empty()) {
+      // Per control point; a shear particle takes the field's NURBS interpolation at its parameter.
+      for (size_t k = 0; k < patch.v.size(); ++k) patch.v[k] += s.initial_velocity_field[k];
+      nurbs::SurfaceBasis basis;
+      for (size_t c = 0; c < patch.shear.v.size(); ++c) {
+        const Eigen::Vector2d& uv = patch.shear_parameter(c);
+        patch.reference().rational_basis(uv.x(), uv.y(), basis);
+        for (int k = 0; k < basis.count; ++k)
+          patch.shear.v[c] += basis.R[static_cast<size_t>(k)] * s.initial_velocity_field[static_cast<size_t>(basis.index[static_cast<size_t>(k)])];
+      }
+    }
     initial_positions_.push_back(patches_.back().x);
     transfer_mass_.push_back(patches_.back().mass);
     affine_.emplace_back(model.grid.apic ? patches_.back().x.size() : 0, Eigen::Matrix3d::Zero());
@@ -60,8 +73,11 @@ World::World(const scene::Model& model) {
   // Pinned control points are driven kinematically: they take no part in the grid transfers (their
   // elastic force is the support reaction, not a load on their free neighbours), and act on the rest of
   // the shell through the elastic forces alone.
-  for (const scene::model::Pin& pin : model.pins)
-    for (int k : pin.control_points) transfer_mass_[pin.shell][static_cast<size_t>(k)] = 0.0;
+  // Points held in only some directions (rollers, symmetry planes) keep their mass (sim/pin_system.hpp).
+  const std::vector<std::vector<bool>> kinematic = kinematic_points(model);
+  for (size_t i = 0; i < kinematic.size(); ++i)
+    for (size_t k = 0; k < kinematic[i].size(); ++k)
+      if (kinematic[i][k]) transfer_mass_[i][k] = 0.0;
 
   // Per patch: the control points (Type II: mass, momentum, generalized force) and the shear
   // particles (Type III: grid stress term, and the velocity gradient that advects their director).

@@ -50,7 +50,7 @@ SceneError refusal(const std::string& text) {
 TEST(SceneJson, UnknownKeyListsAllowedKeys) {
   const SceneError e = refusal(std::string(R"({"shells": [)") + kSheet + R"(], "grdi": {"dx": 0.1}})");
   EXPECT_EQ(e.json_path(), "/grdi");
-  EXPECT_THAT(e.message(), HasSubstr("unknown key \"grdi\": allowed here are colliders, cracks, damping, gravity, grid, interfaces, name, "
+  EXPECT_THAT(e.message(), HasSubstr("unknown key \"grdi\": allowed here are colliders, cracks, damping, gravity, grid, interfaces, loads, name, "
                                       "output, pins, quality, shells, solids, time"));
 }
 

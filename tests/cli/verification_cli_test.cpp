@@ -1,0 +1,165 @@
+// Verification scenes end to end (issue 15): bad boundary conditions, loads, probes and initial
+// velocities refused with exit 2 and the JSON path; probes, control-point output, reactions and the run
+// to rest in the files a run writes.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <tuple>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "tests/cli/cli_process.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using shellfrac::test::Result;
+
+fs::path scratch(const std::string& name) { return shellfrac::test::scratch_folder("verification", name); }
+
+// A 0.4 m x 0.2 m strip (8 x 4 cells); `shell` is spliced into the shell, `extra` into the top level.
+std::string strip(const std::string& extra, const std::string& shell = "") {
+  return R"({"time": {"end": 0.2, "frame_rate": 20}, "output": {"resolution": [4, 4]}, "shells": [{"name": "strip", )" + shell +
+         R"("patch": {"type": "flat", "size": [0.4, 0.2], "cells": [8, 4]},
+      "thickness": 0.002, "material": {"E": 1e6, "nu": 0.3, "density": 500}}])" + extra + "}";
+}
+
+// The strip with its "output" object replaced by the one in `extra`.
+std::string strip_output(const std::string& extra) {
+  std::string s = strip(extra);
+  const std::string from = R"("output": {"resolution": [4, 4]}, )";
+  return s.erase(s.find(from), from.size());
+}
+
+Result validate(const std::string& name, const std::string& text) {
+  const fs::path d = scratch(name);
+  std::ofstream(d / "s.json") << text;
+  return shellfrac::test::run_shellfrac("validate " + (d / "s.json").string());
+}
+
+struct BadCase {
+  std::string name, scene, message;
+};
+
+class VerificationRefusals : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(VerificationRefusals, ExitTwoWithThePath) {
+  const BadCase& c = GetParam();
+  const Result r = validate(c.name, c.scene);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr(c.message)) << r.output;
+}
+
+const BadCase kBad[] = {
+    {"repeated_component", strip(R"(, "pins": [{"shell": "strip", "edges": ["u0"], "components": ["z", "z"]}])"),
+     "s.json: /pins/0/components: component \"z\" is given twice"},
+    {"tangential_and_along",
+     strip(R"(, "pins": [{"shell": "strip", "edges": ["u0"], "frame": "edge", "components": ["tangential", "along"]}])"),
+     "/pins/0/components: \"tangential\" already holds \"along\" and \"across\": the components conflict"},
+    {"moving_pin_shares_a_point",
+     strip(R"(, "pins": [{"shell": "strip", "edges": ["u0"], "components": ["z"]},
+        {"shell": "strip", "control_points": [[0, 0]], "motion": {"linear_velocity": [0, 0, 1]}}])"),
+     "/pins/1: control point [0, 0] is also held by /pins/0 and one of them moves it: the pins' components conflict"},
+    {"component_of_another_frame", strip(R"(, "pins": [{"shell": "strip", "edges": ["u0"], "components": ["normal"]}])"),
+     "/pins/0/components/0: "},
+    {"plane_without_normal", strip(R"(, "pins": [{"shell": "strip", "edges": ["u0"], "frame": "plane", "components": ["normal"]}])"),
+     "/pins/0/plane_normal: \"plane_normal\" goes with \"frame\": \"plane\""},
+    {"rows_beyond_the_patch", strip(R"(, "pins": [{"shell": "strip", "edges": ["v0"], "rows": 7, "components": ["z"]}])"),
+     "/pins/0/rows: 7 rows from edge v0 but the patch has 6"},
+    {"probe_outside", strip_output(R"(, "output": {"probes": [{"name": "p", "shell": "strip", "at": [0.5, 1.2]}]})"),
+     "/output/probes/0/at/1: value 1.2 is out of range"},
+    {"probe_on_no_shell", strip_output(R"(, "output": {"probes": [{"name": "p", "shell": "plate", "at": [0.5, 0.5]}]})"),
+     "/output/probes/0/shell: no shell is named \"plate\""},
+    {"ramp_not_increasing",
+     strip(R"(, "loads": [{"type": "pressure", "shell": "strip", "pressure": 1, "ramp": [[0, 0], [0.2, 1], [0.2, 2]]}])"),
+     "/loads/0/ramp/2/0: ramp times must increase strictly"},
+    {"unknown_shape", strip("", R"("initial_velocity_field": {"shape": "cosine", "modes": [1, 1]}, )"),
+     "/shells/0/initial_velocity_field/shape: "},
+    {"list_of_wrong_length", strip("", R"("initial_velocity_field": {"shape": "list", "values": [[0, 0, 1]]}, )"),
+     "/shells/0/initial_velocity_field/values: expected one velocity per control point (10 x 6 = 60"},
+    {"unknown_load_type", strip(R"(, "loads": [{"type": "wind", "shell": "strip"}])"), "/loads/0/type: "},
+};
+
+INSTANTIATE_TEST_SUITE_P(BadInput, VerificationRefusals, ::testing::ValuesIn(kBad),
+                         [](const ::testing::TestParamInfo<BadCase>& i) { return i.param.name; });
+
+// Reads frames/frame_NNNNN.control_points.csv: (shell, i, j) -> position.
+std::map<std::tuple<std::string, int, int>, std::array<double, 3>> control_points(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "shell,i,j,x,y,z");
+  std::map<std::tuple<std::string, int, int>, std::array<double, 3>> out;
+  while (std::getline(in, line)) {
+    std::stringstream row(line);
+    std::string shell, cell;
+    std::getline(row, shell, ',');
+    int ij[2];
+    for (int& k : ij) {
+      std::getline(row, cell, ',');
+      k = std::stoi(cell);
+    }
+    std::array<double, 3> x{};
+    for (double& c : x) {
+      std::getline(row, cell, ',');
+      c = std::strtod(cell.c_str(), nullptr);
+    }
+    out[{shell, ij[0], ij[1]}] = x;
+  }
+  return out;
+}
+
+TEST(VerificationRun, ProbesReactionsControlPointsAndRest) {
+  // A cantilever strip under its own weight (a body load: unlike gravity on the grid it also loads the
+  // clamped control points, so the clamp carries the whole weight), damped near critically (2 omega_1), run until it rests.
+  const fs::path d = scratch("run");
+  std::ofstream(d / "s.json") << R"({"time": {"end": 2.0, "frame_rate": 20, "cfl": 1,
+      "until_rest": {"kinetic_energy": 1e-9, "speed": 2e-4, "duration": 0.02}},
+    "output": {"resolution": [4, 4], "precision": "double", "control_points": true,
+      "probes": [{"name": "tip", "shell": "strip", "at": [1, 1], "every": "step"},
+                 {"name": "middle", "shell": "strip", "at": [0.5, 0.5]}]},
+    "gravity": [0, 0, 0], "damping": 140,
+    "loads": [{"type": "body", "shell": "strip", "acceleration": [0, 0, -9.81], "ramp": [[0, 0], [0.03, 1]]}],
+    "shells": [{"name": "strip", "patch": {"type": "flat", "size": [0.2, 0.1], "cells": [8, 4]},
+      "thickness": 0.02, "material": {"E": 1e7, "nu": 0.3, "density": 500}}],
+    "pins": [{"name": "clamp", "shell": "strip", "edges": ["u0"], "rows": 2}]})";
+  const Result r = shellfrac::test::run_shellfrac("run " + (d / "s.json").string() + " --threads 1 --out " + (d / "out").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  nlohmann::json s;
+  std::ifstream(d / "out" / "summary.json") >> s;
+  // Rest before the end; the run stopped there.
+  ASSERT_TRUE(s["until_rest"]["reached"].get<bool>()) << s["until_rest"].dump();
+  const double rest = s["until_rest"]["time"].get<double>();
+  EXPECT_LT(rest, 2.0);
+  EXPECT_EQ(s["simulated_seconds"].get<double>(), rest);
+  // One kinetic energy per frame; the last below the threshold.
+  const auto& ke = s["kinetic_energy_history"]["kinetic_energy"];
+  EXPECT_EQ(ke.size(), s["frames"].size());
+  EXPECT_LE(ke.back().get<double>(), 1e-9);
+  // Probes: step probe sampled at every step and at the start, frame probe at every frame.
+  const auto& tip = s["probes"][0];
+  EXPECT_EQ(tip["name"], "tip");
+  EXPECT_EQ(tip["time"].size(), s["steps"].get<size_t>() + 1);
+  EXPECT_EQ(s["probes"][1]["time"].size(), s["frames"].size());
+  EXPECT_TRUE(fs::exists(d / "out" / "probes" / "tip.csv"));
+  // The tip probe at the interpolating corner reproduces the corner control point of the last frame's
+  // control-point file to round-off (both written with 17 digits).
+  const std::string last = s["frames"].back().get<std::string>();
+  const std::string stem = last.substr(0, last.find('.'));
+  const auto cps = control_points(d / "out" / (stem + ".control_points.csv"));
+  const auto corner = cps.at({"strip", 9, 5});
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(tip["position"].back()[k].get<double>(), corner[static_cast<size_t>(k)]);
+  // The body load is the weight rho t A g; at rest the clamp carries it (relative residual of the rest
+  // thresholds).
+  const double weight = 500 * 0.02 * 0.2 * 0.1 * 9.81;
+  EXPECT_NEAR(s["loads"][0]["applied"][2].get<double>(), -weight, 1e-12 * weight);
+  EXPECT_EQ(s["pins"][0]["name"], "clamp");
+  EXPECT_NEAR(s["pins"][0]["reaction"][2].get<double>(), weight, 1e-3 * weight);
+}
+
+}  // namespace
