@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "core/format.hpp"
 #include "render_mesh/atomic_write.hpp"
 
 namespace shellfrac::output {
@@ -11,11 +12,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string number(double x) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
-}
+// Every digit a double needs to read back exactly.
+std::string number(double x) { return core::format_number(x, 17); }
 
 std::array<double, 3> arr(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 

@@ -22,6 +22,11 @@ inline std::vector<Eigen::Vector2d> points2(const std::vector<Vec2>& pts) {
   return out;
 }
 inline std::string index_path(const std::string& list, size_t i) { return list + "/" + std::to_string(i); }
+// The Greville abscissa of basis function i mapped to [0, 1] over the knot vector's domain: a control
+// point's place in the patch, as pin regions and initial velocity fields name it.
+inline double normalised_greville(const nurbs::KnotVector& k, int i) {
+  return (k.greville(i) - k.domain_begin()) / (k.domain_end() - k.domain_begin());
+}
 
 // Errors of the build, all naming the scene's source.
 struct Builder {

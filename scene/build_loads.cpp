@@ -74,8 +74,8 @@ std::vector<Eigen::Vector3d> build_velocity_field(const Builder& b, const Veloci
   for (int j = 0; j < nv; ++j)
     for (int i = 0; i < nu; ++i) {
       // Normalised Greville coordinates: the control point's place in the patch (as pin regions use).
-      const double s = (ku.greville(i) - ku.domain_begin()) / (ku.domain_end() - ku.domain_begin());
-      const double t = (kv.greville(j) - kv.domain_begin()) / (kv.domain_end() - kv.domain_begin());
+      const double s = normalised_greville(ku, i);
+      const double t = normalised_greville(kv, j);
       Eigen::Vector3d v;
       if (f.shape == "sine") {
         v = *f.amplitude * vec3(*f.direction).normalized() * std::sin((*f.modes)[0] * core::kPi * s) *

@@ -219,8 +219,8 @@ model::Pin build_pin(const Builder& b, const Pin& p, size_t index, const std::ve
     const auto& kv = surf.knots_v();
     for (int j = 0; j < nv; ++j)
       for (int i = 0; i < nu; ++i) {
-        const double s = (ku.greville(i) - ku.domain_begin()) / (ku.domain_end() - ku.domain_begin());
-        const double t = (kv.greville(j) - kv.domain_begin()) / (kv.domain_end() - kv.domain_begin());
+        const double s = normalised_greville(ku, i);
+        const double t = normalised_greville(kv, j);
         if (s >= u[0] - 1e-12 && s <= u[1] + 1e-12 && t >= v[0] - 1e-12 && t <= v[1] + 1e-12)
           pin.control_points.push_back(i + nu * j);
       }
