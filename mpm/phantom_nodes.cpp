@@ -37,7 +37,7 @@ PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<Particle
     if (!roles[s].near_crack) continue;
     for (size_t p = 0; p < sets[s].count; ++p)
       if (roles[s].near_crack[p]) {
-        for (uint32_t n : grid.stencil_nodes(sets[s].position[p])) flagged[n] = 1;
+        for (const uint32_t* n = grid.particle_stencil(s, p), *end = n + 27; n != end; ++n) flagged[*n] = 1;
         any = true;
       }
   }
@@ -52,26 +52,25 @@ PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<Particle
       node_slot[n] = static_cast<int32_t>(slot_node.size());
       slot_node.push_back(static_cast<uint32_t>(n));
     }
-  std::vector<std::array<uint32_t, 27>> stencils;  // of particles that reach a flagged node
-  std::vector<std::vector<int32_t>> touching(sets.size());
+  // The stencils come from the grid's per-particle cache (filled by rebuild), so nothing is recomputed.
+  std::vector<std::vector<unsigned char>> touching(sets.size());  // per particle: reaches a flagged node
   std::vector<uint32_t> slot_count(slot_node.size() + 1, 0);
   for (size_t s = 0; s < sets.size(); ++s) {
-    touching[s].assign(sets[s].count, -1);
-    std::vector<std::array<uint32_t, 27>> st(sets[s].count);
-    std::vector<unsigned char> hit(sets[s].count, 0);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, sets[s].count, 512), [&](const tbb::blocked_range<size_t>& r) {
+    std::vector<unsigned char>& hit = touching[s];
+    hit.assign(sets[s].count, 0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, sets[s].count, 1024), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t p = r.begin(); p != r.end(); ++p) {
-        st[p] = grid.stencil_nodes(sets[s].position[p]);
-        for (uint32_t n : st[p])
-          if (flagged[n]) hit[p] = 1;
+        const uint32_t* st = grid.particle_stencil(s, p);
+        unsigned char h = 0;
+        for (int k = 0; k < 27; ++k) h |= flagged[st[k]];
+        hit[p] = h;
       }
     });
     for (size_t p = 0; p < sets[s].count; ++p) {
       if (!hit[p]) continue;
-      touching[s][p] = static_cast<int32_t>(stencils.size());
-      stencils.push_back(st[p]);
-      for (uint32_t n : st[p])
-        if (flagged[n]) ++slot_count[static_cast<size_t>(node_slot[n]) + 1];
+      const uint32_t* st = grid.particle_stencil(s, p);
+      for (int k = 0; k < 27; ++k)
+        if (flagged[st[k]]) ++slot_count[static_cast<size_t>(node_slot[st[k]]) + 1];
     }
   }
   for (size_t k = 0; k + 1 < slot_count.size(); ++k) slot_count[k + 1] += slot_count[k];
@@ -80,8 +79,8 @@ PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<Particle
     std::vector<uint32_t> cursor(slot_count.begin(), slot_count.end() - 1);
     for (size_t s = 0; s < sets.size(); ++s)
       for (size_t p = 0; p < sets[s].count; ++p) {
-        if (touching[s][p] < 0) continue;
-        const auto& st = stencils[static_cast<size_t>(touching[s][p])];
+        if (!touching[s][p]) continue;
+        const uint32_t* st = grid.particle_stencil(s, p);
         for (uint32_t k = 0; k < 27; ++k)
           if (flagged[st[k]])
             pairs[cursor[static_cast<size_t>(node_slot[st[k]])]++] = {st[k], static_cast<uint32_t>(s), static_cast<uint32_t>(p), k};
@@ -144,8 +143,8 @@ PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<Particle
     if (row < 0) {
       row = static_cast<int32_t>(layout.stencil_copy.size() / 27);
       layout.stencil_copy.insert(layout.stencil_copy.end(), 27, -1);
-      const auto& st = stencils[static_cast<size_t>(touching[np.set][np.particle])];
-      layout.stencil_node.insert(layout.stencil_node.end(), st.begin(), st.end());
+      const uint32_t* st = grid.particle_stencil(np.set, np.particle);
+      layout.stencil_node.insert(layout.stencil_node.end(), st, st + 27);
     }
     layout.stencil_copy[static_cast<size_t>(row) * 27 + np.stencil] = pair_copy[i];
   }

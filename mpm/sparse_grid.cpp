@@ -138,6 +138,20 @@ void SparseGrid::rebuild(const std::vector<ParticleSet>& sets) {
   for (size_t i = 0; i < total; ++i) sorted[cursor[block_of_entry[i]]++] = entries_[i];
   entries_.swap(sorted);
 
+  // 3b. Per-particle cache of weights and stencil nodes, in entry order (the transfers read it in that
+  //     order), and the inverse map from (set, particle) to entry.
+  set_first_.assign(first.begin(), first.end());
+  stencil_.resize(total);
+  entry_of_.resize(total);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, num_blocks, 8), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t b = r.begin(); b != r.end(); ++b)
+      for (uint32_t e = bin_offsets_[b]; e < bin_offsets_[b + 1]; ++e) {
+        const Entry& en = entries_[e];
+        fill_stencil(static_cast<uint32_t>(b), sets[en.set].position[en.index], stencil_[e]);
+        entry_of_[first[en.set] + en.index] = e;
+      }
+  });
+
   // 4. Parity colours of the blocks that hold particles.
   colour_blocks_.assign(8, {});
   for (uint32_t b = 0; b < num_blocks; ++b) {
@@ -152,7 +166,7 @@ void SparseGrid::rebuild(const std::vector<ParticleSet>& sets) {
   copy_parent_.clear();
   copy_mass_position_.clear();
   copy_mass_gradient_.clear();
-  phantom_row_.clear();
+  entry_phantom_row_.clear();
   phantom_stencil_.clear();
   mass_.resize(n);
   momentum_.resize(n);
@@ -172,9 +186,10 @@ std::array<uint32_t, 27> SparseGrid::stencil_nodes(const Vec3& x) const {
   const StencilWeights sw = stencil_weights(x, inv_dx_);
   const int32_t b = find_block(pack(floor_div4(sw.ax[0].base), floor_div4(sw.ax[1].base), floor_div4(sw.ax[2].base)));
   if (b < 0) throw std::logic_error("stencil_nodes: position outside the active grid (rebuild first)");
+  ParticleStencil st;
+  fill_stencil(static_cast<uint32_t>(b), x, st);
   std::array<uint32_t, 27> nodes{};
-  for_stencil(static_cast<uint32_t>(b), sw,
-              [&](size_t node, int i, int j, int k) { nodes[static_cast<size_t>(i + 3 * j + 9 * k)] = static_cast<uint32_t>(node); });
+  std::copy(st.node, st.node + 27, nodes.begin());
   return nodes;
 }
 
@@ -187,7 +202,6 @@ void SparseGrid::set_phantom_copies(const PhantomLayout& layout) {
   momentum_.resize(grid_nodes_ + copies, Vec3::Zero());
   force_.resize(grid_nodes_ + copies, Vec3::Zero());
   velocity_.resize(grid_nodes_ + copies, Vec3::Zero());
-  phantom_row_ = layout.particle_row;
   phantom_stencil_.resize(layout.stencil_copy.size());
   // Rows name copies by number; store final node indices (a grid node for -1, else grid_nodes_ + copy).
   for (size_t r = 0; r < layout.stencil_copy.size() / 27; ++r)
@@ -195,6 +209,16 @@ void SparseGrid::set_phantom_copies(const PhantomLayout& layout) {
       const int32_t c = layout.stencil_copy[r * 27 + k];
       phantom_stencil_[r * 27 + k] = c < 0 ? layout.stencil_node[r * 27 + k] : static_cast<uint32_t>(grid_nodes_ + static_cast<size_t>(c));
     }
+  // Which entries use a row.
+  entry_phantom_row_.clear();
+  for (size_t set = 0; set < layout.particle_row.size(); ++set) {
+    const std::vector<int32_t>& rows = layout.particle_row[set];
+    for (size_t p = 0; p < rows.size(); ++p) {
+      if (rows[p] < 0) continue;
+      if (entry_phantom_row_.empty()) entry_phantom_row_.assign(entries_.size(), -1);
+      entry_phantom_row_[entry_of_[set_first_[set] + p]] = rows[p];
+    }
+  }
 }
 
 int32_t SparseGrid::find_block(uint64_t key) const {
@@ -202,25 +226,41 @@ int32_t SparseGrid::find_block(uint64_t key) const {
   return it != active_keys_.end() && *it == key ? static_cast<int32_t>(it - active_keys_.begin()) : -1;
 }
 
-template <class Fn>
-void SparseGrid::for_stencil(uint32_t block, const StencilWeights& sw, Fn&& fn) const {
+void SparseGrid::fill_stencil(uint32_t block, const Vec3& x, ParticleStencil& st) const {
   const BlockCoord& c = block_coords_[block];
-  const int lx = sw.ax[0].base - c.x() * kBlock, ly = sw.ax[1].base - c.y() * kBlock,
-            lz = sw.ax[2].base - c.z() * kBlock;
-  const auto& nb = forward_neighbours_[block];
-  for (int k = 0; k < 3; ++k) {
-    const AxisSlot sz = slot(lz, k);
-    for (int j = 0; j < 3; ++j) {
-      const AxisSlot sy = slot(ly, j);
-      for (int i = 0; i < 3; ++i) {
-        const AxisSlot sx = slot(lx, i);
-        const int32_t b = nb[static_cast<size_t>(sx.next_block | (sy.next_block << 1) | (sz.next_block << 2))];
-        const size_t node = static_cast<size_t>(b) * kBlockNodes +
-                            static_cast<size_t>(sx.local + kBlock * (sy.local + kBlock * sz.local));
-        fn(node, i, j, k);
-      }
+  int local[3];  // base node in its block
+  for (int d = 0; d < 3; ++d) {
+    const AxisWeights a = quadratic_weights(x[d], inv_dx_);
+    for (int i = 0; i < 3; ++i) {
+      st.w[d][i] = a.w[i];
+      st.dw[d][i] = a.dw[i];
     }
+    st.d0[d] = a.base * dx_ - x[d];
+    local[d] = a.base - c[d] * kBlock;
   }
+  const uint32_t first = block * kBlockNodes + static_cast<uint32_t>(local[0] + kBlock * (local[1] + kBlock * local[2]));
+  if (local[0] + 2 < kBlock && local[1] + 2 < kBlock && local[2] + 2 < kBlock) {  // inside the block
+    for (uint32_t k = 0; k < 3; ++k)
+      for (uint32_t j = 0; j < 3; ++j)
+        for (uint32_t i = 0; i < 3; ++i) st.node[i + 3 * j + 9 * k] = first + i + kBlock * (j + kBlock * k);
+    return;
+  }
+  // Reaching into the forward neighbours: per axis and offset the neighbour bit and the local offset.
+  uint32_t base[8];
+  for (size_t n = 0; n < 8; ++n) base[n] = static_cast<uint32_t>(forward_neighbours_[block][n]) * kBlockNodes;
+  uint32_t bit[3][3], offset[3][3];
+  constexpr uint32_t stride[3] = {1, kBlock, kBlock * kBlock};
+  for (int d = 0; d < 3; ++d)
+    for (int i = 0; i < 3; ++i) {
+      const AxisSlot sl = slot(local[d], i);
+      bit[d][i] = static_cast<uint32_t>(sl.next_block) << d;
+      offset[d][i] = static_cast<uint32_t>(sl.local) * stride[d];
+    }
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 3; ++j) {
+      const uint32_t bjk = bit[1][j] | bit[2][k], ojk = offset[1][j] + offset[2][k];
+      for (int i = 0; i < 3; ++i) st.node[i + 3 * j + 9 * k] = base[bit[0][i] | bjk] + offset[0][i] + ojk;
+    }
 }
 
 template <class Fn>
@@ -231,32 +271,56 @@ void SparseGrid::for_blocks_coloured(Fn&& fn) const {
     });
 }
 
+// The transfers below run over the 3 x 3 x 3 stencil as k (z), j (y), i (x) loops and factor the dyadic
+// weight w_ijk = wx_i wy_j wz_k (thesis Eq. 2.14): whatever depends on (j, k) only is formed once per row of
+// three nodes. Affine and MLS terms are linear in the node position, x_i - x_p = d0 + dx (i, j, k), so they
+// are carried as a particle vector plus one increment per axis instead of a matrix product per node.
+
 void SparseGrid::transfer_mass_momentum(const std::vector<ParticleSet>& sets) {
   for_blocks_coloured([&](uint32_t b) {
     for (uint32_t e = bin_offsets_[b]; e < bin_offsets_[b + 1]; ++e) {
       const ParticleSet& s = sets[entries_[e].set];
       const uint32_t p = entries_[e].index;
-      const Vec3& xp = s.position[p];
+      const ParticleStencil& st = stencil_[e];
+      const uint32_t* nodes = entry_nodes(e);
       const double mp = s.mass[p];
-      const Vec3 mv = mp * s.velocity[p];
-      const StencilWeights sw = stencil_weights(xp, inv_dx_);
-      const Mat3* C = s.affine ? &s.affine[p] : nullptr;
-      const uint32_t si = entries_[e].set;
-      for_stencil(b, sw, [&](size_t grid_node, int i, int j, int k) {
-        const size_t node = target(si, p, grid_node, i, j, k);
-        const double w = sw.weight(i, j, k);
-        mass_[node] += w * mp;
-        if (node >= grid_nodes_) {  // phantom copy: data for its contact normal (thesis Eq. 4.22)
-          copy_mass_position_[node - grid_nodes_] += (w * mp) * xp;
-          copy_mass_gradient_[node - grid_nodes_] += mp * sw.gradient(i, j, k);
+      // Momentum sent to node (i, j, k): m v + m C (x_i - x_p) = a0 + i ax + j ay + k az (APIC, Eq. 2.23).
+      Vec3 a0 = mp * s.velocity[p], ax = Vec3::Zero(), ay = Vec3::Zero(), az = Vec3::Zero();
+      if (s.affine) {
+        const Mat3 mC = mp * s.affine[p];
+        a0 += mC * Vec3(st.d0[0], st.d0[1], st.d0[2]);
+        ax = dx_ * mC.col(0);
+        ay = dx_ * mC.col(1);
+        az = dx_ * mC.col(2);
+      }
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 ak = a0 + static_cast<double>(k) * az;
+        for (int j = 0; j < 3; ++j) {
+          const double wyz = st.w[1][j] * st.w[2][k];
+          const Vec3 q = wyz * (ak + static_cast<double>(j) * ay), r = wyz * ax;  // row (j, k), per unit wx
+          const double mq = wyz * mp;
+          const uint32_t* row = nodes + 3 * j + 9 * k;
+          for (int i = 0; i < 3; ++i) {
+            const double wx = st.w[0][i];
+            mass_[row[i]] += wx * mq;
+            momentum_[row[i]] += wx * (q + static_cast<double>(i) * r);
+          }
         }
-        if (C) {
-          const Vec3 xi(sw.ax[0].base + i, sw.ax[1].base + j, sw.ax[2].base + k);
-          momentum_[node] += w * (mv + mp * (*C) * (xi * dx_ - xp));
-        } else {
-          momentum_[node] += w * mv;
-        }
-      });
+      }
+      if (nodes == st.node) continue;
+      // Phantom copies: centre-of-mass and mass-gradient sums for the contact normal (thesis Eq. 4.22).
+      const Vec3& xp = s.position[p];
+      for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 3; ++j)
+          for (int i = 0; i < 3; ++i) {
+            const size_t node = nodes[i + 3 * j + 9 * k];
+            if (node < grid_nodes_) continue;
+            const double w = st.w[0][i] * st.w[1][j] * st.w[2][k];
+            copy_mass_position_[node - grid_nodes_] += (w * mp) * xp;
+            copy_mass_gradient_[node - grid_nodes_] +=
+                mp * Vec3(st.dw[0][i] * st.w[1][j] * st.w[2][k], st.w[0][i] * st.dw[1][j] * st.w[2][k],
+                          st.w[0][i] * st.w[1][j] * st.dw[2][k]);
+          }
     }
   });
 }
@@ -268,20 +332,42 @@ void SparseGrid::transfer_forces(const std::vector<ParticleSet>& sets) {
       const ParticleSet& s = sets[entries_[e].set];
       if (!s.force && !s.stress) continue;
       const uint32_t p = entries_[e].index;
-      const StencilWeights sw = stencil_weights(s.position[p], inv_dx_);
-      const Vec3& xp = s.position[p];
-      const uint32_t si = entries_[e].set;
-      for_stencil(b, sw, [&](size_t grid_node, int i, int j, int k) {
-        const size_t node = target(si, p, grid_node, i, j, k);
-        if (s.force) force_[node] += sw.weight(i, j, k) * s.force[p];
-        if (!s.stress) return;
-        if (s.mls_force) {
-          const Vec3 xi(sw.ax[0].base + i, sw.ax[1].base + j, sw.ax[2].base + k);
-          force_[node] -= (inv_d * sw.weight(i, j, k)) * (s.stress[p] * (xi * dx_ - xp));
-        } else {
-          force_[node] -= s.stress[p] * sw.gradient(i, j, k);
+      const ParticleStencil& st = stencil_[e];
+      const uint32_t* nodes = entry_nodes(e);
+      const Vec3 f = s.force ? s.force[p] : Vec3::Zero();
+      if (s.stress && !s.mls_force) {
+        // Node (i, j, k) receives w f - S grad w = wx_i E_jk + dwx_i F_jk with
+        // E_jk = wy wz f - wz dwy S_1 - dwz wy S_2 and F_jk = -wy wz S_0 (S_c: column c of S; Eq. 2.17).
+        const Mat3& S = s.stress[p];
+        for (int k = 0; k < 3; ++k)
+          for (int j = 0; j < 3; ++j) {
+            const double wyz = st.w[1][j] * st.w[2][k];
+            const Vec3 E = wyz * f - (st.dw[1][j] * st.w[2][k]) * S.col(1) - (st.w[1][j] * st.dw[2][k]) * S.col(2);
+            const Vec3 F = -wyz * S.col(0);
+            const uint32_t* row = nodes + 3 * j + 9 * k;
+            for (int i = 0; i < 3; ++i) force_[row[i]] += st.w[0][i] * E + st.dw[0][i] * F;
+          }
+        continue;
+      }
+      // Lagrangian force alone, or with the MLS stress term (Eq. 2.24): node (i, j, k) receives
+      // w (f - D^-1 S (x_i - x_p)) = w (b0 + i bx + j by + k bz).
+      Vec3 b0 = f, bx = Vec3::Zero(), by = Vec3::Zero(), bz = Vec3::Zero();
+      if (s.stress) {
+        const Mat3 DS = inv_d * s.stress[p];
+        b0 -= DS * Vec3(st.d0[0], st.d0[1], st.d0[2]);
+        bx = -dx_ * DS.col(0);
+        by = -dx_ * DS.col(1);
+        bz = -dx_ * DS.col(2);
+      }
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 bk = b0 + static_cast<double>(k) * bz;
+        for (int j = 0; j < 3; ++j) {
+          const double wyz = st.w[1][j] * st.w[2][k];
+          const Vec3 q = wyz * (bk + static_cast<double>(j) * by), r = wyz * bx;
+          const uint32_t* row = nodes + 3 * j + 9 * k;
+          for (int i = 0; i < 3; ++i) force_[row[i]] += st.w[0][i] * (q + static_cast<double>(i) * r);
         }
-      });
+      }
     }
   });
 }
@@ -305,31 +391,73 @@ void SparseGrid::transfer_to_particles(const std::vector<ParticleSet>& sets) con
       for (uint32_t e = bin_offsets_[b]; e < bin_offsets_[b + 1]; ++e) {
         const ParticleSet& s = sets[entries_[e].set];
         const uint32_t p = entries_[e].index;
-        const Vec3& xp = s.position[p];
-        const StencilWeights sw = stencil_weights(xp, inv_dx_);
-        Vec3 v = Vec3::Zero(), v_old = Vec3::Zero();
-        Mat3 C = Mat3::Zero(), grad = Mat3::Zero();
-        const uint32_t si = entries_[e].set;
-        const bool flip = s.flip > 0;
-        for_stencil(static_cast<uint32_t>(b), sw, [&](size_t grid_node, int i, int j, int k) {
-          const size_t node = target(si, p, grid_node, i, j, k);
-          const Vec3& vi = velocity_[node];
-          const double w = sw.weight(i, j, k);
-          v += w * vi;
-          // The node's velocity before this step's forces, colliders and contact: its p2g momentum / mass.
-          if (flip && mass_[node] > 0) v_old += (w / mass_[node]) * momentum_[node];
-          if (s.affine) {
-            const Vec3 xi(sw.ax[0].base + i, sw.ax[1].base + j, sw.ax[2].base + k);
-            C += (w * inv_d) * vi * (xi * dx_ - xp).transpose();
+        const ParticleStencil& st = stencil_[e];
+        const uint32_t* nodes = entry_nodes(e);
+        const bool flip = s.flip > 0, affine = s.affine != nullptr, grad = s.velocity_gradient != nullptr;
+        // Sums over the stencil, built row by row (x), then over y, then z:
+        //   v = sum w v_i; M_c = sum w v_i (offset along axis c: i, j or k) for the APIC affine velocity;
+        //   G_c = sum (d w / d x_c) v_i for the velocity gradient; v_old = sum w v_i^old for FLIP.
+        Vec3 v = Vec3::Zero(), Mx = Vec3::Zero(), My = Vec3::Zero(), Mz = Vec3::Zero();
+        Vec3 Gx = Vec3::Zero(), Gy = Vec3::Zero(), Gz = Vec3::Zero(), v_old = Vec3::Zero();
+        for (int k = 0; k < 3; ++k) {
+          Vec3 Pk = Vec3::Zero(), Qk = Vec3::Zero(), Rk = Vec3::Zero(), Bk = Vec3::Zero(), Ck = Vec3::Zero(),
+               Ok = Vec3::Zero();
+          for (int j = 0; j < 3; ++j) {
+            const uint32_t* row = nodes + 3 * j + 9 * k;
+            const Vec3 &v0 = velocity_[row[0]], &v1 = velocity_[row[1]], &v2 = velocity_[row[2]];
+            const Vec3 t1 = st.w[0][1] * v1, t2 = st.w[0][2] * v2;
+            const Vec3 P = st.w[0][0] * v0 + t1 + t2;  // sum_i wx_i v_i
+            const double wy = st.w[1][j];
+            Pk += wy * P;
+            if (affine) {
+              Qk += wy * (t1 + 2.0 * t2);  // sum_i i wx_i v_i
+              Rk += (static_cast<double>(j) * wy) * P;
+            }
+            if (grad) {
+              Bk += wy * (st.dw[0][0] * v0 + st.dw[0][1] * v1 + st.dw[0][2] * v2);
+              Ck += st.dw[1][j] * P;
+            }
+            if (flip) {
+              // The node's velocity before this step's forces, colliders and contact: its p2g momentum / mass.
+              Vec3 O = Vec3::Zero();
+              for (int i = 0; i < 3; ++i)
+                if (mass_[row[i]] > 0) O += (st.w[0][i] / mass_[row[i]]) * momentum_[row[i]];
+              Ok += wy * O;
+            }
           }
-          if (s.velocity_gradient) grad += vi * sw.gradient(i, j, k).transpose();
-        });
+          const double wz = st.w[2][k];
+          v += wz * Pk;
+          if (affine) {
+            Mx += wz * Qk;
+            My += wz * Rk;
+            Mz += (static_cast<double>(k) * wz) * Pk;
+          }
+          if (grad) {
+            Gx += wz * Bk;
+            Gy += wz * Ck;
+            Gz += st.dw[2][k] * Pk;
+          }
+          if (flip) v_old += wz * Ok;
+        }
         // Summed over all particles (every set with the same share), the FLIP part
         // m_p (v_p - sum_i w_ip v_i^old) cancels against the p2g momentum sum_i m_i v_i^old, so linear
         // momentum is exactly that of the PIC update.
         s.velocity[p] = flip ? Vec3(v + s.flip * (s.velocity[p] - v_old)) : v;
-        if (s.affine) s.affine[p] = C;
-        if (s.velocity_gradient) s.velocity_gradient[p] = grad;
+        if (affine) {
+          // C = D^-1 sum w v_i (x_i - x_p)^T with x_i - x_p = d0 + dx (i, j, k) (thesis Eq. 2.25).
+          Mat3 C;
+          C.col(0) = inv_d * (st.d0[0] * v + dx_ * Mx);
+          C.col(1) = inv_d * (st.d0[1] * v + dx_ * My);
+          C.col(2) = inv_d * (st.d0[2] * v + dx_ * Mz);
+          s.affine[p] = C;
+        }
+        if (grad) {
+          Mat3 G;
+          G.col(0) = Gx;
+          G.col(1) = Gy;
+          G.col(2) = Gz;
+          s.velocity_gradient[p] = G;
+        }
       }
     }
   });

@@ -36,8 +36,10 @@ class SparseGrid {
   explicit SparseGrid(double dx);
   double dx() const { return dx_; }
 
-  // Activates the blocks the particles' quadratic stencils touch, bins the particles and zeroes every
-  // node. Call once per step before the transfers, with the sets the transfers will use.
+  // Activates the blocks the particles' quadratic stencils touch, bins the particles, caches every
+  // particle's weights and stencil nodes, and zeroes every node. Call once per step before the transfers,
+  // with the sets the transfers will use; the transfers use the cached weights, so positions must not
+  // change between rebuild() and transfer_to_particles() (velocities, masses, forces and stresses may).
   void rebuild(const std::vector<ParticleSet>& sets);
 
   // Particle to grid: mass and momentum (thesis Eq. 2.15, 2.16; APIC Eq. 2.23 when a set has affine).
@@ -64,6 +66,11 @@ class SparseGrid {
   Vec3& node_momentum_mut(size_t node) { return momentum_[node]; }
   // Node indices of the 27 stencil nodes of a particle at x, in the order i + 3 j + 9 k (after rebuild).
   std::array<uint32_t, 27> stencil_nodes(const Vec3& x) const;
+  // The same for particle p of set s as rebuild() found it, from the per-particle cache (grid nodes only:
+  // phantom redirections are not applied). Valid until the next rebuild.
+  const uint32_t* particle_stencil(size_t set, size_t p) const {
+    return stencil_[entry_of_[set_first_[set] + p]].node;
+  }
 
   // Node storage, index = block * 64 + local, then the phantom copies. Nodes without mass have zero velocity.
   size_t num_nodes() const { return mass_.size(); }
@@ -83,11 +90,24 @@ class SparseGrid {
     uint32_t index;
   };
   using BlockCoord = Eigen::Vector3i;
+  // What every transfer of a step needs of one particle, computed once in rebuild(): the particle does
+  // not move between p2g and g2p. Weights per axis (thesis Eq. 2.10, 2.11; the 3-D weight is their product,
+  // Eq. 2.14), the offset of stencil node (0,0,0) from the particle, and the 27 node indices.
+  struct ParticleStencil {
+    double w[3][3];   // [axis][node offset 0..2]
+    double dw[3][3];  // derivatives, already divided by dx
+    double d0[3];     // x_base - x_p
+    uint32_t node[27];  // grid node of entry i + 3 j + 9 k
+  };
 
   static uint64_t pack(int bx, int by, int bz);
-  // Calls fn(node_index, weight, gradient) for the 27 stencil nodes of a particle in block b.
-  template <class Fn>
-  void for_stencil(uint32_t block, const StencilWeights& sw, Fn&& fn) const;
+  // Weights and grid nodes of a particle at x whose base node lies in block b.
+  void fill_stencil(uint32_t block, const Vec3& x, ParticleStencil& st) const;
+  // Node list the transfers use for entry e: the cached grid nodes, or the phantom row naming copies.
+  const uint32_t* entry_nodes(size_t e) const {
+    const int32_t row = entry_phantom_row_.empty() ? -1 : entry_phantom_row_[e];
+    return row < 0 ? stencil_[e].node : &phantom_stencil_[static_cast<size_t>(row) * 27];
+  }
   // Runs fn(block) over all blocks, colour by colour, blocks of one colour in parallel.
   template <class Fn>
   void for_blocks_coloured(Fn&& fn) const;
@@ -101,21 +121,18 @@ class SparseGrid {
   std::vector<std::array<int32_t, 8>> forward_neighbours_;  // block + {0,1}^3, -1 if inactive
   std::vector<uint32_t> bin_offsets_;                        // CSR of particle entries per block
   std::vector<Entry> entries_;
+  std::vector<ParticleStencil> stencil_;  // per entry
+  std::vector<size_t> set_first_;         // flat number of particle 0 of each set
+  std::vector<uint32_t> entry_of_;        // flat (set, particle) number -> entry
   std::vector<std::vector<uint32_t>> colour_blocks_;
   std::vector<double> mass_;
   std::vector<Vec3> momentum_, force_, velocity_;
-  // Phantom copies and the per-particle stencil redirections (empty rows = no redirection).
+  // Phantom copies and the per-particle stencil redirections.
   size_t grid_nodes_ = 0;
   std::vector<uint32_t> copy_parent_;
   std::vector<Vec3> copy_mass_position_, copy_mass_gradient_;
-  std::vector<std::vector<int32_t>> phantom_row_;  // [set][particle] -> row, or -1
-  std::vector<uint32_t> phantom_stencil_;          // rows x 27 target node indices
-  // Target node of stencil entry (i, j, k) of particle p of set s.
-  size_t target(uint32_t set, uint32_t p, size_t node, int i, int j, int k) const {
-    if (set >= phantom_row_.size() || phantom_row_[set].empty()) return node;
-    const int32_t row = phantom_row_[set][p];
-    return row < 0 ? node : phantom_stencil_[static_cast<size_t>(row) * 27 + static_cast<size_t>(i + 3 * j + 9 * k)];
-  }
+  std::vector<int32_t> entry_phantom_row_;  // per entry: row of phantom_stencil_, or -1; empty = none
+  std::vector<uint32_t> phantom_stencil_;   // rows x 27 target node indices
 };
 
 }  // namespace shellfrac::mpm
