@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 namespace shellfrac::mpm {
 
@@ -173,12 +174,11 @@ void SparseGrid::rebuild(const std::vector<ParticleSet>& sets) {
   force_.resize(n);
   velocity_.resize(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
-    std::fill(mass_.begin() + static_cast<long>(r.begin()), mass_.begin() + static_cast<long>(r.end()), 0.0);
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      momentum_[i].setZero();
-      force_[i].setZero();
-      velocity_[i].setZero();
-    }
+    const auto from = static_cast<long>(r.begin()), to = static_cast<long>(r.end());
+    std::fill(mass_.begin() + from, mass_.begin() + to, 0.0);
+    std::fill(momentum_.begin() + from, momentum_.begin() + to, Vec3::Zero());
+    std::fill(force_.begin() + from, force_.begin() + to, Vec3::Zero());
+    std::fill(velocity_.begin() + from, velocity_.begin() + to, Vec3::Zero());
   });
 }
 
@@ -271,42 +271,81 @@ void SparseGrid::for_blocks_coloured(Fn&& fn) const {
     });
 }
 
+// Calls fn(std::bool_constant<a>, ...) for runtime flags, so that a transfer loop is compiled once per
+// combination of the optional terms with the unused ones removed.
+template <class Fn>
+void with_flag(bool a, Fn&& fn) {
+  if (a)
+    fn(std::true_type{});
+  else
+    fn(std::false_type{});
+}
+
+// The cached axis weights of a particle, copied to locals.
+inline void load_weights(const double (&w)[3][3], const double (&dw)[3][3], double* wx, double* wy, double* wz,
+                         double* dwx, double* dwy, double* dwz) {
+  for (int i = 0; i < 3; ++i) {
+    wx[i] = w[0][i];
+    wy[i] = w[1][i];
+    wz[i] = w[2][i];
+    dwx[i] = dw[0][i];
+    dwy[i] = dw[1][i];
+    dwz[i] = dw[2][i];
+  }
+}
+
 // The transfers below run over the 3 x 3 x 3 stencil as k (z), j (y), i (x) loops and factor the dyadic
 // weight w_ijk = wx_i wy_j wz_k (thesis Eq. 2.14): whatever depends on (j, k) only is formed once per row of
 // three nodes. Affine and MLS terms are linear in the node position, x_i - x_p = d0 + dx (i, j, k), so they
 // are carried as a particle vector plus one increment per axis instead of a matrix product per node.
 
+// Node arrays are reached through local pointers: Eigen's vector stores may alias anything, which would
+// otherwise make the compiler reload every member pointer after each store.
+
 void SparseGrid::transfer_mass_momentum(const std::vector<ParticleSet>& sets) {
-  for_blocks_coloured([&](uint32_t b) {
+  double* const mass = mass_.data();
+  Vec3* const momentum = momentum_.data();
+  for_blocks_coloured([&, mass, momentum](uint32_t b) {
     for (uint32_t e = bin_offsets_[b]; e < bin_offsets_[b + 1]; ++e) {
       const ParticleSet& s = sets[entries_[e].set];
       const uint32_t p = entries_[e].index;
       const ParticleStencil& st = stencil_[e];
+      double wx[3], wy[3], wz[3], dwx[3], dwy[3], dwz[3];  // locals: the node stores cannot change them
+      load_weights(st.w, st.dw, wx, wy, wz, dwx, dwy, dwz);
       const uint32_t* nodes = entry_nodes(e);
       const double mp = s.mass[p];
-      // Momentum sent to node (i, j, k): m v + m C (x_i - x_p) = a0 + i ax + j ay + k az (APIC, Eq. 2.23).
-      Vec3 a0 = mp * s.velocity[p], ax = Vec3::Zero(), ay = Vec3::Zero(), az = Vec3::Zero();
-      if (s.affine) {
-        const Mat3 mC = mp * s.affine[p];
-        a0 += mC * Vec3(st.d0[0], st.d0[1], st.d0[2]);
-        ax = dx_ * mC.col(0);
-        ay = dx_ * mC.col(1);
-        az = dx_ * mC.col(2);
-      }
-      for (int k = 0; k < 3; ++k) {
-        const Vec3 ak = a0 + static_cast<double>(k) * az;
-        for (int j = 0; j < 3; ++j) {
-          const double wyz = st.w[1][j] * st.w[2][k];
-          const Vec3 q = wyz * (ak + static_cast<double>(j) * ay), r = wyz * ax;  // row (j, k), per unit wx
-          const double mq = wyz * mp;
-          const uint32_t* row = nodes + 3 * j + 9 * k;
-          for (int i = 0; i < 3; ++i) {
-            const double wx = st.w[0][i];
-            mass_[row[i]] += wx * mq;
-            momentum_[row[i]] += wx * (q + static_cast<double>(i) * r);
+      with_flag(s.affine != nullptr, [&](auto affine) {
+        // Momentum sent to node (i, j, k): m v + m C (x_i - x_p) = a0 + i ax + j ay + k az (APIC, Eq. 2.23).
+        Vec3 a0 = mp * s.velocity[p], ax, ay, az;
+        if (affine) {
+          const Mat3 mC = mp * s.affine[p];
+          a0 += mC * Vec3(st.d0[0], st.d0[1], st.d0[2]);
+          ax = dx_ * mC.col(0);
+          ay = dx_ * mC.col(1);
+          az = dx_ * mC.col(2);
+        }
+        for (int k = 0; k < 3; ++k) {
+          const Vec3 ak = affine ? Vec3(a0 + static_cast<double>(k) * az) : a0;
+          for (int j = 0; j < 3; ++j) {
+            const double wyz = wy[j] * wz[k];
+            const double mq = wyz * mp;
+            const uint32_t* row = nodes + 3 * j + 9 * k;
+            if (affine) {
+              const Vec3 q = wyz * (ak + static_cast<double>(j) * ay), r = wyz * ax;  // row (j, k), per unit wx
+              for (int i = 0; i < 3; ++i) {
+                mass[row[i]] += wx[i] * mq;
+                momentum[row[i]] += wx[i] * (q + static_cast<double>(i) * r);
+              }
+            } else {
+              const Vec3 q = wyz * a0;
+              for (int i = 0; i < 3; ++i) {
+                mass[row[i]] += wx[i] * mq;
+                momentum[row[i]] += wx[i] * q;
+              }
+            }
           }
         }
-      }
+      });
       if (nodes == st.node) continue;
       // Phantom copies: centre-of-mass and mass-gradient sums for the contact normal (thesis Eq. 4.22).
       const Vec3& xp = s.position[p];
@@ -315,11 +354,11 @@ void SparseGrid::transfer_mass_momentum(const std::vector<ParticleSet>& sets) {
           for (int i = 0; i < 3; ++i) {
             const size_t node = nodes[i + 3 * j + 9 * k];
             if (node < grid_nodes_) continue;
-            const double w = st.w[0][i] * st.w[1][j] * st.w[2][k];
+            const double w = wx[i] * wy[j] * wz[k];
             copy_mass_position_[node - grid_nodes_] += (w * mp) * xp;
             copy_mass_gradient_[node - grid_nodes_] +=
-                mp * Vec3(st.dw[0][i] * st.w[1][j] * st.w[2][k], st.w[0][i] * st.dw[1][j] * st.w[2][k],
-                          st.w[0][i] * st.w[1][j] * st.dw[2][k]);
+                mp * Vec3(dwx[i] * wy[j] * wz[k], wx[i] * dwy[j] * wz[k],
+                          wx[i] * wy[j] * dwz[k]);
           }
     }
   });
@@ -327,12 +366,15 @@ void SparseGrid::transfer_mass_momentum(const std::vector<ParticleSet>& sets) {
 
 void SparseGrid::transfer_forces(const std::vector<ParticleSet>& sets) {
   const double inv_d = apic_inverse_d(dx_);
-  for_blocks_coloured([&](uint32_t b) {
+  Vec3* const force = force_.data();
+  for_blocks_coloured([&, force](uint32_t b) {
     for (uint32_t e = bin_offsets_[b]; e < bin_offsets_[b + 1]; ++e) {
       const ParticleSet& s = sets[entries_[e].set];
       if (!s.force && !s.stress) continue;
       const uint32_t p = entries_[e].index;
       const ParticleStencil& st = stencil_[e];
+      double wx[3], wy[3], wz[3], dwx[3], dwy[3], dwz[3];  // locals: the node stores cannot change them
+      load_weights(st.w, st.dw, wx, wy, wz, dwx, dwy, dwz);
       const uint32_t* nodes = entry_nodes(e);
       const Vec3 f = s.force ? s.force[p] : Vec3::Zero();
       if (s.stress && !s.mls_force) {
@@ -341,31 +383,35 @@ void SparseGrid::transfer_forces(const std::vector<ParticleSet>& sets) {
         const Mat3& S = s.stress[p];
         for (int k = 0; k < 3; ++k)
           for (int j = 0; j < 3; ++j) {
-            const double wyz = st.w[1][j] * st.w[2][k];
-            const Vec3 E = wyz * f - (st.dw[1][j] * st.w[2][k]) * S.col(1) - (st.w[1][j] * st.dw[2][k]) * S.col(2);
+            const double wyz = wy[j] * wz[k];
+            const Vec3 E = wyz * f - (dwy[j] * wz[k]) * S.col(1) - (wy[j] * dwz[k]) * S.col(2);
             const Vec3 F = -wyz * S.col(0);
             const uint32_t* row = nodes + 3 * j + 9 * k;
-            for (int i = 0; i < 3; ++i) force_[row[i]] += st.w[0][i] * E + st.dw[0][i] * F;
+            for (int i = 0; i < 3; ++i) force[row[i]] += wx[i] * E + dwx[i] * F;
           }
         continue;
       }
-      // Lagrangian force alone, or with the MLS stress term (Eq. 2.24): node (i, j, k) receives
-      // w (f - D^-1 S (x_i - x_p)) = w (b0 + i bx + j by + k bz).
-      Vec3 b0 = f, bx = Vec3::Zero(), by = Vec3::Zero(), bz = Vec3::Zero();
-      if (s.stress) {
-        const Mat3 DS = inv_d * s.stress[p];
-        b0 -= DS * Vec3(st.d0[0], st.d0[1], st.d0[2]);
-        bx = -dx_ * DS.col(0);
-        by = -dx_ * DS.col(1);
-        bz = -dx_ * DS.col(2);
+      if (!s.stress) {  // Lagrangian force alone: w f (the generalized control-point force, Eq. 4.8)
+        for (int k = 0; k < 3; ++k)
+          for (int j = 0; j < 3; ++j) {
+            const Vec3 q = (wy[j] * wz[k]) * f;
+            const uint32_t* row = nodes + 3 * j + 9 * k;
+            for (int i = 0; i < 3; ++i) force[row[i]] += wx[i] * q;
+          }
+        continue;
       }
+      // With the MLS stress term (Eq. 2.24): node (i, j, k) receives
+      // w (f - D^-1 S (x_i - x_p)) = w (b0 + i bx + j by + k bz).
+      const Mat3 DS = inv_d * s.stress[p];
+      const Vec3 b0 = f - DS * Vec3(st.d0[0], st.d0[1], st.d0[2]), bx = -dx_ * DS.col(0), by = -dx_ * DS.col(1),
+                 bz = -dx_ * DS.col(2);
       for (int k = 0; k < 3; ++k) {
         const Vec3 bk = b0 + static_cast<double>(k) * bz;
         for (int j = 0; j < 3; ++j) {
-          const double wyz = st.w[1][j] * st.w[2][k];
+          const double wyz = wy[j] * wz[k];
           const Vec3 q = wyz * (bk + static_cast<double>(j) * by), r = wyz * bx;
           const uint32_t* row = nodes + 3 * j + 9 * k;
-          for (int i = 0; i < 3; ++i) force_[row[i]] += st.w[0][i] * (q + static_cast<double>(i) * r);
+          for (int i = 0; i < 3; ++i) force[row[i]] += wx[i] * (q + static_cast<double>(i) * r);
         }
       }
     }
@@ -373,93 +419,108 @@ void SparseGrid::transfer_forces(const std::vector<ParticleSet>& sets) {
 }
 
 void SparseGrid::update_velocities(double dt, const Vec3& gravity) {
+  const double* const mass = mass_.data();
+  const Vec3* const momentum = momentum_.data();
+  const Vec3* const force = force_.data();
+  Vec3* const velocity = velocity_.data();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, mass_.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t n = r.begin(); n != r.end(); ++n) {
-      if (mass_[n] > 0)
-        velocity_[n] = (momentum_[n] + dt * force_[n]) / mass_[n] + dt * gravity;
+      if (mass[n] > 0)
+        velocity[n] = (momentum[n] + dt * force[n]) / mass[n] + dt * gravity;
       else
-        velocity_[n].setZero();
+        velocity[n].setZero();
     }
   });
 }
 
 void SparseGrid::transfer_to_particles(const std::vector<ParticleSet>& sets) const {
   const double inv_d = apic_inverse_d(dx_);
+  const Vec3* const velocity = velocity_.data();
+  const Vec3* const momentum = momentum_.data();
+  const double* const mass = mass_.data();
+  // One particle's gather, compiled per combination of the optional outputs.
+  auto gather = [&](const ParticleSet& s, uint32_t p, size_t e, auto flip, auto affine, auto grad) {
+    const ParticleStencil& st = stencil_[e];
+    double wx[3], wy[3], wz[3], dwx[3], dwy[3], dwz[3];
+    load_weights(st.w, st.dw, wx, wy, wz, dwx, dwy, dwz);
+    const uint32_t* nodes = entry_nodes(e);
+    // Sums over the stencil, built row by row (x), then over y, then z:
+    //   v = sum w v_i; M_c = sum w v_i (offset along axis c: i, j or k) for the APIC affine velocity;
+    //   G_c = sum (d w / d x_c) v_i for the velocity gradient; v_old = sum w v_i^old for FLIP.
+    Vec3 v = Vec3::Zero(), Mx = Vec3::Zero(), My = Vec3::Zero(), Mz = Vec3::Zero();
+    Vec3 Gx = Vec3::Zero(), Gy = Vec3::Zero(), Gz = Vec3::Zero(), v_old = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) {
+      Vec3 Pk = Vec3::Zero(), Qk = Vec3::Zero(), Rk = Vec3::Zero(), Bk = Vec3::Zero(), Ck = Vec3::Zero(),
+           Ok = Vec3::Zero();
+      for (int j = 0; j < 3; ++j) {
+        const uint32_t* row = nodes + 3 * j + 9 * k;
+        const Vec3 &v0 = velocity[row[0]], &v1 = velocity[row[1]], &v2 = velocity[row[2]];
+        const Vec3 t1 = wx[1] * v1, t2 = wx[2] * v2;
+        const Vec3 P = wx[0] * v0 + t1 + t2;  // sum_i wx_i v_i
+        const double wyj = wy[j];
+        Pk += wyj * P;
+        if (affine) {
+          Qk += wyj * (t1 + 2.0 * t2);  // sum_i i wx_i v_i
+          Rk += (static_cast<double>(j) * wyj) * P;
+        }
+        if (grad) {
+          Bk += wyj * (dwx[0] * v0 + dwx[1] * v1 + dwx[2] * v2);
+          Ck += dwy[j] * P;
+        }
+        if (flip) {
+          // The node's velocity before this step's forces, colliders and contact: its p2g momentum / mass.
+          Vec3 O = Vec3::Zero();
+          for (int i = 0; i < 3; ++i)
+            if (mass[row[i]] > 0) O += (wx[i] / mass[row[i]]) * momentum[row[i]];
+          Ok += wyj * O;
+        }
+      }
+      const double wzk = wz[k];
+      v += wzk * Pk;
+      if (affine) {
+        Mx += wzk * Qk;
+        My += wzk * Rk;
+        Mz += (static_cast<double>(k) * wzk) * Pk;
+      }
+      if (grad) {
+        Gx += wzk * Bk;
+        Gy += wzk * Ck;
+        Gz += dwz[k] * Pk;
+      }
+      if (flip) v_old += wzk * Ok;
+    }
+    // Summed over all particles (every set with the same share), the FLIP part
+    // m_p (v_p - sum_i w_ip v_i^old) cancels against the p2g momentum sum_i m_i v_i^old, so linear
+    // momentum is exactly that of the PIC update.
+    s.velocity[p] = flip ? Vec3(v + s.flip * (s.velocity[p] - v_old)) : v;
+    if (affine) {
+      // C = D^-1 sum w v_i (x_i - x_p)^T with x_i - x_p = d0 + dx (i, j, k) (thesis Eq. 2.25).
+      Mat3 C;
+      C.col(0) = inv_d * (st.d0[0] * v + dx_ * Mx);
+      C.col(1) = inv_d * (st.d0[1] * v + dx_ * My);
+      C.col(2) = inv_d * (st.d0[2] * v + dx_ * Mz);
+      s.affine[p] = C;
+    }
+    if (grad) {
+      Mat3 G;
+      G.col(0) = Gx;
+      G.col(1) = Gy;
+      G.col(2) = Gz;
+      s.velocity_gradient[p] = G;
+    }
+  };
   // Gather: each particle reads its stencil; blocks are independent, so any order gives the same result.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, block_coords_.size(), 2), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t b = r.begin(); b != r.end(); ++b) {
+    for (size_t b = r.begin(); b != r.end(); ++b)
       for (uint32_t e = bin_offsets_[b]; e < bin_offsets_[b + 1]; ++e) {
         const ParticleSet& s = sets[entries_[e].set];
         const uint32_t p = entries_[e].index;
-        const ParticleStencil& st = stencil_[e];
-        const uint32_t* nodes = entry_nodes(e);
-        const bool flip = s.flip > 0, affine = s.affine != nullptr, grad = s.velocity_gradient != nullptr;
-        // Sums over the stencil, built row by row (x), then over y, then z:
-        //   v = sum w v_i; M_c = sum w v_i (offset along axis c: i, j or k) for the APIC affine velocity;
-        //   G_c = sum (d w / d x_c) v_i for the velocity gradient; v_old = sum w v_i^old for FLIP.
-        Vec3 v = Vec3::Zero(), Mx = Vec3::Zero(), My = Vec3::Zero(), Mz = Vec3::Zero();
-        Vec3 Gx = Vec3::Zero(), Gy = Vec3::Zero(), Gz = Vec3::Zero(), v_old = Vec3::Zero();
-        for (int k = 0; k < 3; ++k) {
-          Vec3 Pk = Vec3::Zero(), Qk = Vec3::Zero(), Rk = Vec3::Zero(), Bk = Vec3::Zero(), Ck = Vec3::Zero(),
-               Ok = Vec3::Zero();
-          for (int j = 0; j < 3; ++j) {
-            const uint32_t* row = nodes + 3 * j + 9 * k;
-            const Vec3 &v0 = velocity_[row[0]], &v1 = velocity_[row[1]], &v2 = velocity_[row[2]];
-            const Vec3 t1 = st.w[0][1] * v1, t2 = st.w[0][2] * v2;
-            const Vec3 P = st.w[0][0] * v0 + t1 + t2;  // sum_i wx_i v_i
-            const double wy = st.w[1][j];
-            Pk += wy * P;
-            if (affine) {
-              Qk += wy * (t1 + 2.0 * t2);  // sum_i i wx_i v_i
-              Rk += (static_cast<double>(j) * wy) * P;
-            }
-            if (grad) {
-              Bk += wy * (st.dw[0][0] * v0 + st.dw[0][1] * v1 + st.dw[0][2] * v2);
-              Ck += st.dw[1][j] * P;
-            }
-            if (flip) {
-              // The node's velocity before this step's forces, colliders and contact: its p2g momentum / mass.
-              Vec3 O = Vec3::Zero();
-              for (int i = 0; i < 3; ++i)
-                if (mass_[row[i]] > 0) O += (st.w[0][i] / mass_[row[i]]) * momentum_[row[i]];
-              Ok += wy * O;
-            }
-          }
-          const double wz = st.w[2][k];
-          v += wz * Pk;
-          if (affine) {
-            Mx += wz * Qk;
-            My += wz * Rk;
-            Mz += (static_cast<double>(k) * wz) * Pk;
-          }
-          if (grad) {
-            Gx += wz * Bk;
-            Gy += wz * Ck;
-            Gz += st.dw[2][k] * Pk;
-          }
-          if (flip) v_old += wz * Ok;
-        }
-        // Summed over all particles (every set with the same share), the FLIP part
-        // m_p (v_p - sum_i w_ip v_i^old) cancels against the p2g momentum sum_i m_i v_i^old, so linear
-        // momentum is exactly that of the PIC update.
-        s.velocity[p] = flip ? Vec3(v + s.flip * (s.velocity[p] - v_old)) : v;
-        if (affine) {
-          // C = D^-1 sum w v_i (x_i - x_p)^T with x_i - x_p = d0 + dx (i, j, k) (thesis Eq. 2.25).
-          Mat3 C;
-          C.col(0) = inv_d * (st.d0[0] * v + dx_ * Mx);
-          C.col(1) = inv_d * (st.d0[1] * v + dx_ * My);
-          C.col(2) = inv_d * (st.d0[2] * v + dx_ * Mz);
-          s.affine[p] = C;
-        }
-        if (grad) {
-          Mat3 G;
-          G.col(0) = Gx;
-          G.col(1) = Gy;
-          G.col(2) = Gz;
-          s.velocity_gradient[p] = G;
-        }
+        with_flag(s.flip > 0, [&](auto flip) {
+          with_flag(s.affine != nullptr, [&](auto affine) {
+            with_flag(s.velocity_gradient != nullptr, [&](auto grad) { gather(s, p, e, flip, affine, grad); });
+          });
+        });
       }
-    }
   });
 }
 
