@@ -98,12 +98,18 @@ PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<Particle
       const int n = static_cast<int>(slot_count[slot + 1] - begin);
       parent.resize(static_cast<size_t>(n));
       std::iota(parent.begin(), parent.end(), 0);
-      for (int a = 0; a < n; ++a)
-        for (int b = a + 1; b < n; ++b) {
+      // Once every particle is in one component no test can change the partition: stop (most flagged
+      // nodes are away from the crack itself, where the first particle sees all the others).
+      int groups = n;
+      for (int a = 0; a < n && groups > 1; ++a)
+        for (int b = a + 1; b < n && groups > 1; ++b) {
           const int ra = find_root(parent, a), rb = find_root(parent, b);
           if (ra == rb) continue;
           const NodeParticle &pa = pairs[begin + static_cast<size_t>(a)], &pb = pairs[begin + static_cast<size_t>(b)];
-          if (connected(pa.set, pa.particle, pb.set, pb.particle)) parent[static_cast<size_t>(std::max(ra, rb))] = std::min(ra, rb);
+          if (connected(pa.set, pa.particle, pb.set, pb.particle)) {
+            parent[static_cast<size_t>(std::max(ra, rb))] = std::min(ra, rb);
+            --groups;
+          }
         }
       label.assign(static_cast<size_t>(n), -1);
       int count = 0;

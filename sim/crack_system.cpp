@@ -5,9 +5,10 @@
 #include <tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <sstream>
-#include <unordered_map>
+#include <vector>
 
 #include "scene/scene_error.hpp"
 #include "sim/seam_system.hpp"
@@ -29,10 +30,74 @@ bool inside_polygon(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>
 
 }  // namespace
 
+namespace {
+
+// Visibility of particle pairs, memoised: an open-addressing table (linear probing, power-of-two size,
+// at most half full) keyed by the packed pair. Cheaper than a node-based map: one multiply to hash and
+// usually one probe, no allocation per entry.
+class PairVisibilityMap {
+ public:
+  // The stored answer for `key`, or -1 when absent.
+  int find(uint64_t key) const {
+    if (keys_.empty()) return -1;
+    for (size_t i = slot(key);; i = (i + 1) & (keys_.size() - 1)) {
+      if (keys_[i] == key) return values_[i];
+      if (keys_[i] == kEmpty) return -1;
+    }
+  }
+  void insert(uint64_t key, bool value) {
+    if (2 * (used_ + 1) > keys_.size()) grow();
+    size_t i = slot(key);
+    while (keys_[i] != kEmpty && keys_[i] != key) i = (i + 1) & (keys_.size() - 1);
+    if (keys_[i] == kEmpty) ++used_;
+    keys_[i] = key;
+    values_[i] = value;
+  }
+
+ private:
+  static constexpr uint64_t kEmpty = ~uint64_t{0};  // not a valid pair key (particle numbers < 2^24)
+  size_t slot(uint64_t key) const {
+    return static_cast<size_t>((key * 0x9E3779B97F4A7C15ull) >> shift_);  // Fibonacci hashing
+  }
+  void grow() {
+    std::vector<uint64_t> keys = std::move(keys_);
+    std::vector<unsigned char> values = std::move(values_);
+    const size_t size = keys.empty() ? 1024 : 2 * keys.size();
+    keys_.assign(size, kEmpty);
+    values_.assign(size, 0);
+    shift_ = 64 - static_cast<int>(std::log2(static_cast<double>(size)));
+    used_ = 0;
+    for (size_t i = 0; i < keys.size(); ++i)
+      if (keys[i] != kEmpty) insert(keys[i], values[i] != 0);
+  }
+  std::vector<uint64_t> keys_;
+  std::vector<unsigned char> values_;
+  size_t used_ = 0;
+  int shift_ = 64;
+};
+
+}  // namespace
+
 struct CrackSystem::VisibilityCache {
-  using Map = std::unordered_map<uint64_t, bool>;
-  tbb::enumerable_thread_specific<Map> per_thread;
+  tbb::enumerable_thread_specific<PairVisibilityMap> per_thread;
   size_t segments = 0;  // crack segments when the cache was filled
+  // Unique per cache ever made, so a thread can remember its table without looking it up per query.
+  const uint64_t generation = next_generation();
+  static uint64_t next_generation() {
+    static std::atomic<uint64_t> counter{0};
+    return ++counter;
+  }
+  // This thread's table. The thread_local pair is only trusted for the generation it was taken from,
+  // which no later cache reuses.
+  PairVisibilityMap& local() {
+    thread_local uint64_t seen = 0;
+    thread_local PairVisibilityMap* table = nullptr;
+    if (seen != generation) {
+      table = &per_thread.local();
+      seen = generation;
+    }
+    return *table;
+  }
 };
 
 CrackSystem::CrackSystem(const scene::Model& model, World& world, double grid_dx) {
@@ -212,18 +277,36 @@ void CrackSystem::partition(const World& world, mpm::SparseGrid& grid, const Sea
     const crack2d::CrackIndex* index = world.shell(pa).crack();
     return !index || !index->crosses(parameter(sa, a), parameter(sb, b));
   };
+  // Per set, looked up once here rather than per query: shell or not, its body, and (for shells) whether
+  // that shell has a crack and is on a coupled seam.
+  struct SetInfo {
+    bool shell;
+    bool cracked;
+    bool coupled;
+    size_t body;
+  };
+  std::vector<SetInfo> info(sets.size());
+  for (size_t s = 0; s < sets.size(); ++s) {
+    const SetRef& r = world.set(s);
+    const bool shell = r.kind != SetKind::SolidParticles;
+    info[s] = {shell, shell && world.shell(r.body).crack() != nullptr, shell && coupled_patch_[r.body] != 0, r.body};
+  }
+  VisibilityCache& cache_owner = *visibility_;
   const mpm::Connectivity connected = [&](uint32_t sa, uint32_t a, uint32_t sb, uint32_t b) {
-    if (!is_shell(sa) || !is_shell(sb)) return sa == sb;
-    const size_t pa = world.set(sa).body, pb = world.set(sb).body;
-    if (pa != pb && !(coupled_patch_[pa] && coupled_patch_[pb])) return false;
-    if (pa == pb && !world.shell(pa).crack()) return true;
+    const SetInfo &ia = info[sa], &ib = info[sb];
+    if (!ia.shell || !ib.shell) return sa == sb;
+    if (ia.body != ib.body && !(ia.coupled && ib.coupled)) return false;
+    if (ia.body == ib.body && !ia.cracked) return true;
     if (!cacheable) return visible(sa, a, sb, b);
     uint64_t ka = (uint64_t{sa} << 24) | a, kb = (uint64_t{sb} << 24) | b;
     if (ka > kb) std::swap(ka, kb);
-    VisibilityCache::Map& cache = visibility_->per_thread.local();
-    const auto [it, inserted] = cache.try_emplace((ka << 32) | kb, false);
-    if (inserted) it->second = visible(sa, a, sb, b);
-    return it->second;
+    PairVisibilityMap& cache = cache_owner.local();
+    const uint64_t key = (ka << 32) | kb;
+    const int known = cache.find(key);
+    if (known >= 0) return known != 0;
+    const bool result = visible(sa, a, sb, b);
+    cache.insert(key, result);
+    return result;
   };
   phantoms_ = mpm::partition_nodes(grid, sets, roles, connected);
   grid.set_phantom_copies(phantoms_);
