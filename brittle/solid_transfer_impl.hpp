@@ -14,7 +14,28 @@
 
 #define SB_INLINE static inline __attribute__((always_inline))
 
+#if defined(__AVX__)
 typedef double V4 __attribute__((vector_size(32)));
+SB_INLINE V4 make4(double a, double b, double c, double d) { return V4{a, b, c, d}; }
+SB_INLINE double lane(const V4& v, int i) { return v[i]; }
+#else
+// Without AVX GCC lowers 32-byte generic vectors through the stack; two named 16-byte halves stay in
+// SSE2 registers (as in shell/simd_lanes.hpp).
+typedef double V2 __attribute__((vector_size(16)));
+struct V4 {
+  V2 a, b;
+};
+SB_INLINE V4 make4(double w, double x, double y, double z) { return V4{V2{w, x}, V2{y, z}}; }
+SB_INLINE double lane(const V4& v, int i) { return i < 2 ? v.a[i] : v.b[i - 2]; }
+SB_INLINE V4 operator+(const V4& u, const V4& v) { return V4{u.a + v.a, u.b + v.b}; }
+SB_INLINE V4 operator*(const V4& u, double c) { return V4{u.a * c, u.b * c}; }
+SB_INLINE V4 operator*(double c, const V4& u) { return V4{c * u.a, c * u.b}; }
+SB_INLINE V4& operator+=(V4& u, const V4& v) {
+  u.a += v.a;
+  u.b += v.b;
+  return u;
+}
+#endif
 
 SB_INLINE V4 load4(const double* p) {
   V4 v;
@@ -22,7 +43,6 @@ SB_INLINE V4 load4(const double* p) {
   return v;
 }
 SB_INLINE void store4(double* p, const V4& v) { std::memcpy(p, &v, sizeof v); }
-SB_INLINE V4 splat4(double a) { return V4{a, a, a, a}; }
 
 // Quadratic B-spline weights of a particle on its 3 x 3 x 3 stencil (thesis Eq. 2.10), the offsets
 // x_i - x_p per axis, and the index of the stencil's first node.
@@ -68,8 +88,8 @@ void scatter_kernel(const TransferGrid& g, const SolidView& s, double dt, const 
     const double* S = reinterpret_cast<const double*>(s.stress + p);
     double Q[9];
     for (int c = 0; c < 9; ++c) Q[c] = mp * C[c] - stress_scale * S[c];
-    const V4 qx = {0.0, Q[0], Q[1], Q[2]}, qy = {0.0, Q[3], Q[4], Q[5]}, qz = {0.0, Q[6], Q[7], Q[8]};
-    const V4 m4 = {mp, mp * v[0], mp * v[1], mp * v[2]};
+    const V4 qx = make4(0.0, Q[0], Q[1], Q[2]), qy = make4(0.0, Q[3], Q[4], Q[5]), qz = make4(0.0, Q[6], Q[7], Q[8]);
+    const V4 m4 = make4(mp, mp * v[0], mp * v[1], mp * v[2]);
     const double wx[3] = {st.w[0][0], st.w[0][1], st.w[0][2]};
     const double wxd[3] = {st.w[0][0] * st.d[0][0], st.w[0][1] * st.d[0][1], st.w[0][2] * st.d[0][2]};
     const FieldMask mask = s.mask ? s.mask[p] : 0;
@@ -87,10 +107,10 @@ void scatter_kernel(const TransferGrid& g, const SolidView& s, double dt, const 
       }
       continue;
     }
-    V4 n4 = {0, 0, 0, 0};
+    V4 n4 = make4(0, 0, 0, 0);
     if (slot >= 0) {
       const double* n = reinterpret_cast<const double*>(s.near_normal + slot);
-      n4 = V4{n[0], n[1], n[2], 0.0} * mp;
+      n4 = make4(n[0], n[1], n[2], 0.0) * mp;
     }
     for (int k = 0; k < 3; ++k) {
       const V4 rowz = m4 + qz * st.d[2][k];
@@ -127,7 +147,7 @@ void gather_kernel(const TransferGrid& g, const SolidView& s, double dt, size_t 
     const FieldMask mask = s.mask ? s.mask[p] : 0;
     const double wx[3] = {st.w[0][0], st.w[0][1], st.w[0][2]};
     const double wxd[3] = {st.w[0][0] * st.d[0][0], st.w[0][1] * st.d[0][1], st.w[0][2] * st.d[0][2]};
-    V4 sv = {0, 0, 0, 0}, bx = sv, by = sv, bz = sv;
+    V4 sv = make4(0, 0, 0, 0), bx = sv, by = sv, bz = sv;
     for (int k = 0; k < 3; ++k) {
       for (int j = 0; j < 3; ++j) {
         const long row = st.base + j * sy + k * sz;
@@ -154,7 +174,7 @@ void gather_kernel(const TransferGrid& g, const SolidView& s, double dt, size_t 
     }
     // M = I + dt C as three column vectors in lanes 1..3 (lane 0 unused); F's columns likewise.
     const double h = dt * inv_d;
-    const V4 m0 = V4{0, 1, 0, 0} + h * bx, m1 = V4{0, 0, 1, 0} + h * by, m2 = V4{0, 0, 0, 1} + h * bz;
+    const V4 m0 = make4(0, 1, 0, 0) + h * bx, m1 = make4(0, 0, 1, 0) + h * by, m2 = make4(0, 0, 0, 1) + h * bz;
     double* F = reinterpret_cast<double*>(s.F + p);
     // Column c of the product goes to Fn[3 c + 1 .. 3 c + 3] (lanes 1..3 of a store at Fn + 3 c); stored
     // last column first, so that each store's unused lane 0 lands on the previous column's slot before that
@@ -165,11 +185,11 @@ void gather_kernel(const TransferGrid& g, const SolidView& s, double dt, size_t 
     double* v = reinterpret_cast<double*>(s.v + p);
     double* C = reinterpret_cast<double*>(s.C + p);
     for (int a = 0; a < 3; ++a) {
-      v[a] = sv[a + 1];
-      C[a] = inv_d * bx[a + 1];
-      C[3 + a] = inv_d * by[a + 1];
-      C[6 + a] = inv_d * bz[a + 1];
-      x[a] += dt * sv[a + 1];
+      v[a] = lane(sv, a + 1);
+      C[a] = inv_d * lane(bx, a + 1);
+      C[3 + a] = inv_d * lane(by, a + 1);
+      C[6 + a] = inv_d * lane(bz, a + 1);
+      x[a] += dt * lane(sv, a + 1);
     }
   }
 }

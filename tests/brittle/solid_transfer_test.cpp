@@ -9,7 +9,9 @@
 #include <random>
 #include <vector>
 
+#include "brittle/crack_sides.hpp"
 #include "brittle/solid_grid.hpp"
+#include "brittle_test_helpers.hpp"
 
 namespace shellfrac::brittle {
 namespace {
@@ -288,6 +290,76 @@ TEST(SolidTransfer, GenericAndAvx2KernelsAgreeToRoundOff) {
     err_v = std::max(err_v, (r[0].v[q] - r[1].v[q]).cwiseAbs().maxCoeff());
   }
   EXPECT_LE(err_v, 1e-12 * scale_v);
+}
+
+// The two-field classification (thesis sec. 3.4.1, CrackSides::classify) against a direct computation:
+// particle p is in field 1 at node i when n_p . n_ref < -1/4, n_ref the normal of the near particle with
+// the largest weight at i. Nodes where several particles share the largest weight to 1e-12 and disagree
+// are left out (the classifier breaks such ties by scatter order).
+TEST(CrackSides, FieldMasksFollowTheReferenceParticleOfEachNode) {
+  // A 12 x 12 x 12 lattice (spacing h / 2) cracked by the plane z = 0 and deformed a little at random.
+  std::vector<Vec3> rest, x;
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double s = 0.5 * kDx;
+  for (int k = 0; k < 12; ++k)
+    for (int j = 0; j < 12; ++j)
+      for (int i = 0; i < 12; ++i) {
+        rest.emplace_back(s * (i - 5.5), s * (j - 5.5), s * (k - 5.5));
+        x.push_back(rest.back() + 0.2 * s * Vec3(u(rng), u(rng), u(rng)) + Vec3(0.003, -0.002, 0.05));
+      }
+  CrackSides sides;
+  sides.set_crack(testing::square_z(0, 0, 0, 1.0), rest, 3.0 * std::sqrt(3.0) * kDx * 1.05, kDx);
+  ASSERT_TRUE(sides.active());
+  SolidGrid g(kDx);
+  g.rebuild(x.data(), x.size(), {}, true, size_t{1} << 30);
+  sides.classify(g, x.data());
+
+  const size_t nodes = g.num_nodes();
+  std::vector<double> best(nodes, -1.0);
+  auto near = [&](size_t p) { return sides.slot(p) >= 0; };
+  for (size_t p = 0; p < x.size(); ++p)
+    if (near(p))
+      for_stencil(x[p], [&](int i, int j, int k, int, double w) {
+        const size_t idx = static_cast<size_t>(g.node_index(i, j, k));
+        best[idx] = std::max(best[idx], w);
+      });
+  std::vector<std::vector<size_t>> leaders(nodes);
+  for (size_t p = 0; p < x.size(); ++p)
+    if (near(p))
+      for_stencil(x[p], [&](int i, int j, int k, int, double w) {
+        const size_t idx = static_cast<size_t>(g.node_index(i, j, k));
+        if (w >= best[idx] * (1.0 - 1e-12)) leaders[idx].push_back(p);
+      });
+  size_t checked = 0, skipped = 0, field1 = 0;
+  for (size_t p = 0; p < x.size(); ++p) {
+    const FieldMask mask = sides.masks()[p];
+    if (!near(p)) {
+      EXPECT_EQ(mask, 0u) << "far particle " << p;
+      continue;
+    }
+    const Vec3 np = sides.normals()[sides.slot(p)];
+    for_stencil(x[p], [&](int i, int j, int k, int bit, double) {
+      const size_t idx = static_cast<size_t>(g.node_index(i, j, k));
+      int votes[2] = {0, 0};
+      bool close = false;
+      for (size_t q : leaders[idx]) {
+        const double d = np.dot(sides.normals()[sides.slot(q)]);
+        close = close || std::abs(d - CrackSides::kOppositeCosine) < 1e-12;
+        ++votes[d < CrackSides::kOppositeCosine ? 1 : 0];
+      }
+      if (close || (votes[0] && votes[1])) {
+        ++skipped;
+        return;
+      }
+      const unsigned expected = votes[1] ? 1u : 0u;
+      EXPECT_EQ((mask >> bit) & 1u, expected) << "particle " << p << " node " << idx;
+      ++checked;
+      field1 += expected;
+    });
+  }
+  EXPECT_GT(field1, 1000u);  // both sides really occur
+  EXPECT_LT(skipped, checked / 10);
 }
 
 }  // namespace
