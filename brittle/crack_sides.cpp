@@ -132,21 +132,36 @@ void CrackSides::classify(const SolidGrid& grid, const Vec3* x) {
           }
         }
   });
-  // 2. Field bits: clearly opposite to the node's reference particle -> field 1.
+  // 2. The reference normal of every node, one array per axis (zero where no near particle reaches: the
+  //    test below then fails, as it should), so that step 3 reads each stencil row contiguously instead of
+  //    a normal per node through its slot.
+  const size_t nodes = grid.num_nodes();
+  for (auto& a : ref_normal_) a.resize(nodes);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, nodes, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const int32_t ref = best_slot_[i];
+      const Vec3 n = ref >= 0 ? normal_[static_cast<size_t>(ref)] : Vec3::Zero();
+      for (int a = 0; a < 3; ++a) ref_normal_[a][i] = n[a];
+    }
+  });
+  // 3. Field bits: clearly opposite to the node's reference particle -> field 1.
+  const double *rx = ref_normal_[0].data(), *ry = ref_normal_[1].data(), *rz = ref_normal_[2].data();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, near_.size(), 512), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t s = r.begin(); s != r.end(); ++s) {
       const uint32_t p = near_[s];
-      double w[3][3];
-      long base;
-      weights(x[p], w, base);
+      long base = 0;
+      const long stride[3] = {1, sy, sz};
+      for (int a = 0; a < 3; ++a) base += (static_cast<long>(std::floor(x[p][a] * inv_dx - 0.5)) - lo[a]) * stride[a];
+      const double nx = normal_[s].x(), ny = normal_[s].y(), nz = normal_[s].z();
       FieldMask m = 0;
       for (int k = 0; k < 3; ++k)
-        for (int j = 0; j < 3; ++j)
+        for (int j = 0; j < 3; ++j) {
+          const long row = base + j * sy + k * sz;
           for (int i = 0; i < 3; ++i) {
-            const int32_t ref = best_slot_[static_cast<size_t>(base + i + j * sy + k * sz)];
-            if (ref >= 0 && normal_[s].dot(normal_[static_cast<size_t>(ref)]) < kOppositeCosine)
-              m |= FieldMask{1} << (i + 3 * j + 9 * k);
+            const double d = nx * rx[row + i] + ny * ry[row + i] + nz * rz[row + i];
+            m |= FieldMask{d < kOppositeCosine} << (i + 3 * j + 9 * k);
           }
+        }
       mask_[p] = m;
     }
   });

@@ -48,6 +48,7 @@ class CrackSides {
   std::vector<FieldMask> mask_;  // per particle
   std::vector<double> best_w_;   // per node scratch: largest weight of a near particle
   std::vector<int32_t> best_slot_;
+  std::vector<double> ref_normal_[3];  // per node scratch: n of the reference particle per axis, 0 without one
 };
 
 }  // namespace shellfrac::brittle

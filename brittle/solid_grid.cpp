@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "brittle/errors.hpp"
+#include "brittle/solid_transfer.hpp"
 
 namespace shellfrac::brittle {
 
@@ -22,18 +23,6 @@ struct Stencil {
   double w[3][3];
   double d[3][3];
 };
-
-// A grid node's four doubles (m, p) as one vector (GCC/Clang vector extension: one AVX register, two
-// SSE2 ones), loaded and stored through memcpy since GridNode is only 8-byte aligned.
-typedef double Node4 __attribute__((vector_size(32)));
-static_assert(sizeof(GridNode) == sizeof(Node4), "GridNode is (m, p_x, p_y, p_z)");
-// (Passed by reference: a 32-byte vector by value would depend on the AVX ABI.)
-inline void add_node(GridNode& n, const Node4& v) {
-  Node4 sum;
-  std::memcpy(&sum, &n, sizeof sum);
-  sum += v;
-  std::memcpy(&n, &sum, sizeof sum);
-}
 
 inline Stencil make_stencil(const GVec3& x, double inv_dx, double dx) {
   Stencil s;
@@ -54,8 +43,57 @@ inline Stencil make_stencil(const GVec3& x, double inv_dx, double dx) {
 
 }  // namespace
 
-SolidGrid::SolidGrid(double dx) : dx_(dx), inv_dx_(1.0 / dx) {
+namespace {
+
+bool cpu_has_avx2_fma() {
+#if defined(SHELLFRAC_BRITTLE_AVX2)
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#else
+  return false;
+#endif
+}
+
+const detail::TransferKernels* kernels_for(SolidGrid::TransferIsa isa) {
+  switch (isa) {
+    case SolidGrid::TransferIsa::Generic: return &detail::transfer_kernels_generic();
+    case SolidGrid::TransferIsa::Avx2:
+#if defined(SHELLFRAC_BRITTLE_AVX2)
+      if (cpu_has_avx2_fma()) return &detail::transfer_kernels_avx2();
+#endif
+      return nullptr;
+    case SolidGrid::TransferIsa::Auto: break;
+  }
+  const detail::TransferKernels* k = kernels_for(SolidGrid::TransferIsa::Avx2);
+  return k ? k : &detail::transfer_kernels_generic();
+}
+
+}  // namespace
+
+SolidGrid::SolidGrid(double dx) : dx_(dx), inv_dx_(1.0 / dx), kernels_(kernels_for(TransferIsa::Auto)) {
   if (!(dx > 0)) throw InputError("grid spacing must be > 0");
+}
+
+bool SolidGrid::set_transfer_isa(TransferIsa isa) {
+  const detail::TransferKernels* k = kernels_for(isa);
+  if (!k) return false;
+  kernels_ = k;
+  return true;
+}
+
+const char* SolidGrid::transfer_isa() const { return kernels_->isa; }
+
+detail::TransferGrid SolidGrid::raw() const {
+  detail::TransferGrid g;
+  g.field[0] = const_cast<GridNode*>(field_[0].data());
+  g.field[1] = two_fields_ ? const_cast<GridNode*>(field_[1].data()) : g.field[0];
+  g.normal = two_fields_ ? const_cast<double*>(normal_.data()->n) : nullptr;
+  for (int a = 0; a < 3; ++a) g.lo[a] = lo_[a];
+  g.stride_y = stride_y_;
+  g.stride_z = stride_z_;
+  g.dx = dx_;
+  g.inv_dx = inv_dx_;
+  return g;
 }
 
 long SolidGrid::node_index(int i, int j, int k) const {
@@ -126,7 +164,7 @@ void SolidGrid::rebuild(const GVec3* x, size_t n, const std::vector<GVec3>& extr
   }
   const Eigen::Vector3i dims = hi_node - lo_node + Eigen::Vector3i::Ones();
   const double nodes = static_cast<double>(dims.x()) * dims.y() * dims.z();
-  const double bytes = nodes * (two_fields ? 2 * sizeof(GridNode) + sizeof(GVec3) : sizeof(GridNode));
+  const double bytes = nodes * (two_fields ? 2 * sizeof(GridNode) + sizeof(NodeNormal) : sizeof(GridNode));
   if (bytes > static_cast<double>(memory_limit)) {
     std::ostringstream m;
     m << "the MPM grid around the solid would need " << dims.transpose() << " nodes (" << bytes / 1e9
@@ -143,7 +181,7 @@ void SolidGrid::rebuild(const GVec3* x, size_t n, const std::vector<GVec3>& extr
   field_[0].assign(count, GridNode{0, {0, 0, 0}});
   if (two_fields) {
     field_[1].assign(count, GridNode{0, {0, 0, 0}});
-    normal_.assign(count, GVec3::Zero());
+    normal_.assign(count, NodeNormal{{0, 0, 0, 0}});
   } else {
     field_[1].clear();
     normal_.clear();
@@ -169,43 +207,19 @@ void SolidGrid::rebuild(const GVec3* x, size_t n, const std::vector<GVec3>& extr
 }
 
 void SolidGrid::transfer_to_grid(const SolidView& s, double dt) {
-  const double inv_d = 4.0 * inv_dx_ * inv_dx_;  // D^-1 for quadratic B-splines (Eq. 2.24)
-  GridNode* f[2] = {field_[0].data(), two_fields_ ? field_[1].data() : field_[0].data()};
-  for_particles_coloured([&](uint32_t p) {
-    const Stencil st = make_stencil(s.x[p], inv_dx_, dx_);
-    const double mp = s.m[p];
-    // Q = m C - dt D^-1 V^0 J sigma: node i receives w (m v + Q (x_i - x_p)).
-    const GMat3 Q = mp * s.C[p] - (dt * inv_d) * s.stress[p];
-    const double mv[3] = {mp * s.v[p].x(), mp * s.v[p].y(), mp * s.v[p].z()};
-    const long base = (st.base[0] - lo_.x()) + (st.base[1] - lo_.y()) * stride_y_ + (st.base[2] - lo_.z()) * stride_z_;
-    const FieldMask mask = s.mask ? s.mask[p] : 0;
-    const int32_t slot = two_fields_ && s.near_slot ? s.near_slot[p] : -1;
-    const bool plain = mask == 0 && slot < 0;  // most particles: one field, no crack normal
-    // A node is the four doubles (m, p_x, p_y, p_z): it receives w (rowv + qx dx_i) with
-    // rowv = (m_p, m v + Q_{.,1} dy + Q_{.,2} dz) and qx = (0, Q_{.,0}).
-    const Node4 qx = {0.0, Q(0, 0), Q(1, 0), Q(2, 0)}, qy = {0.0, Q(0, 1), Q(1, 1), Q(2, 1)}, qz = {0.0, Q(0, 2), Q(1, 2), Q(2, 2)};
-    const Node4 m4 = {mp, mv[0], mv[1], mv[2]};
-    for (int k = 0; k < 3; ++k) {
-      const double wz = st.w[2][k];
-      const Node4 rowz = m4 + qz * st.d[2][k];
-      for (int j = 0; j < 3; ++j) {
-        const double wyz = st.w[1][j] * wz;
-        const Node4 rowv = rowz + qy * st.d[1][j];
-        const long idx = base + j * stride_y_ + k * stride_z_;
-        if (plain) {
-          GridNode* nd = f[0] + idx;
-          for (int i = 0; i < 3; ++i) add_node(nd[i], (st.w[0][i] * wyz) * (rowv + qx * st.d[0][i]));
-          continue;
-        }
-        for (int i = 0; i < 3; ++i) {
-          const double w = st.w[0][i] * wyz;
-          const int field = static_cast<int>((mask >> (i + 3 * j + 9 * k)) & 1u);
-          add_node(f[field][idx + i], w * (rowv + qx * st.d[0][i]));
-          if (slot >= 0) normal_[static_cast<size_t>(idx + i)] += (field ? -w * mp : w * mp) * s.near_normal[slot];
-        }
+  const detail::TransferGrid g = raw();
+  const detail::ScatterKernel scatter = kernels_->scatter;
+  // The coloured slab order of for_particles_coloured, a slab per kernel call.
+  const size_t slabs = slab_offsets_.empty() ? 0 : slab_offsets_.size() - 1;
+  for (size_t colour = 0; colour < 2; ++colour) {
+    const size_t count = (slabs + 1 - colour) / 2;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t k = r.begin(); k != r.end(); ++k) {
+        const size_t slab = 2 * k + colour;
+        scatter(g, s, dt, slab_order_.data(), slab_offsets_[slab], slab_offsets_[slab + 1]);
       }
-    }
-  });
+    });
+  }
 }
 
 void SolidGrid::add_point_forces(const std::vector<GVec3>& x, const std::vector<GVec3>& force, const std::vector<int>& field, double dt) {
@@ -253,11 +267,12 @@ FieldContactStats SolidGrid::resolve_field_contact() {
           GridNode &a = field_[0][i], &b = field_[1][i];
           if (!(a.m > 0) || !(b.m > 0)) continue;
           ++acc.both;
-          const double len = normal_[i].norm();
+          const GVec3 ni = crack_normal(i);
+          const double len = ni.norm();
           if (!(len > 0)) continue;
           // normal_ points from the crack into field 0: field 0's outward normal (towards field 1) is -n,
           // field 1's is +n (thesis: n_{i,0} = n_i, n_{i,1} = -n_i with n taken outward from each field).
-          const GVec3 n = normal_[i] / len;
+          const GVec3 n = ni / len;
           const GVec3 va(a.p[0], a.p[1], a.p[2]), vb(b.p[0], b.p[1], b.p[2]);
           const GVec3 vcm = (a.m * va + b.m * vb) / (a.m + b.m);
           // Eq. 3.7 for field 0 with n_0 = -n: (v_cm - v_0) . n_0 < 0 <=> the fields approach; the same
@@ -310,56 +325,10 @@ void SolidGrid::apply_colliders(const std::vector<mpm::Collider>& colliders, dou
 }
 
 void SolidGrid::transfer_to_particles(const SolidView& s, double dt) const {
-  const double inv_d = 4.0 * inv_dx_ * inv_dx_;
-  const GridNode* f[2] = {field_[0].data(), two_fields_ ? field_[1].data() : field_[0].data()};
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, s.count, 2048), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t p = r.begin(); p != r.end(); ++p) {
-      const Stencil st = make_stencil(s.x[p], inv_dx_, dx_);
-      const long base = (st.base[0] - lo_.x()) + (st.base[1] - lo_.y()) * stride_y_ + (st.base[2] - lo_.z()) * stride_z_;
-      const FieldMask mask = s.mask ? s.mask[p] : 0;
-      // a[0..2]: sum w v; a[3..11]: sum w v (x_i - x_p)^T column by column.
-      double a[12] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
-      for (int k = 0; k < 3; ++k) {
-        const double wz = st.w[2][k], dz = st.d[2][k];
-        for (int j = 0; j < 3; ++j) {
-          const double wyz = st.w[1][j] * wz, dy = st.d[1][j];
-          const long idx = base + j * stride_y_ + k * stride_z_;
-          double sx = 0, sy = 0, sz = 0, tx = 0, ty = 0, tz = 0;
-          for (int i = 0; i < 3; ++i) {
-            const GridNode& nd = f[(mask >> (i + 3 * j + 9 * k)) & 1u][idx + i];
-            const double w = st.w[0][i] * wyz, ddx = st.d[0][i];
-            const double vx = w * nd.p[0], vy = w * nd.p[1], vz = w * nd.p[2];
-            sx += vx;
-            sy += vy;
-            sz += vz;
-            tx += vx * ddx;
-            ty += vy * ddx;
-            tz += vz * ddx;
-          }
-          a[0] += sx;
-          a[1] += sy;
-          a[2] += sz;
-          a[3] += tx;
-          a[4] += ty;
-          a[5] += tz;
-          a[6] += sx * dy;
-          a[7] += sy * dy;
-          a[8] += sz * dy;
-          a[9] += sx * dz;
-          a[10] += sy * dz;
-          a[11] += sz * dz;
-        }
-      }
-      const GVec3 v(a[0], a[1], a[2]);
-      GMat3 C;
-      C << a[3], a[6], a[9], a[4], a[7], a[10], a[5], a[8], a[11];
-      C *= inv_d;
-      s.v[p] = v;
-      s.C[p] = C;
-      s.F[p] = (GMat3::Identity() + dt * C) * s.F[p];  // Eq. 2.26
-      s.x[p] += dt * v;                                 // Eq. 2.21
-    }
-  });
+  const detail::TransferGrid g = raw();
+  const detail::GatherKernel gather = kernels_->gather;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, s.count, 2048),
+                    [&](const tbb::blocked_range<size_t>& r) { gather(g, s, dt, r.begin(), r.end()); });
 }
 
 }  // namespace shellfrac::brittle

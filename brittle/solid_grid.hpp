@@ -15,8 +15,8 @@ using GMat3 = Eigen::Matrix3d;
 using FieldMask = uint32_t;
 
 // Mass and momentum of one field at one node; after update_velocities the momentum slot holds the
-// velocity.
-struct GridNode {
+// velocity. 32-byte aligned: a node is one AVX register and never straddles a cache line.
+struct alignas(32) GridNode {
   double m;
   double p[3];
 };
@@ -35,6 +35,11 @@ struct SolidView {
   const GVec3* near_normal = nullptr;      // unit vector from the crack to the particle, material space
 };
 
+namespace detail {
+struct TransferGrid;
+struct TransferKernels;
+}  // namespace detail
+
 struct FieldContactStats {
   size_t two_field_nodes = 0;  // nodes where both fields have mass
   size_t contact_nodes = 0;    // of those, nodes where the fields approached (Eq. 3.7)
@@ -52,6 +57,14 @@ class SolidGrid {
  public:
   explicit SolidGrid(double dx);
   double dx() const { return dx_; }
+
+  // Instruction set of the transfer kernels (brittle/solid_transfer.hpp). Auto, the default, takes AVX2
+  // with FMA when the processor has both, else the build's baseline. Results differ between the two by
+  // round-off only; for one choice they are the same for any thread count.
+  enum class TransferIsa { Auto, Generic, Avx2 };
+  // Returns false, keeping the current kernels, when the processor (or the build) lacks the set.
+  bool set_transfer_isa(TransferIsa isa);
+  const char* transfer_isa() const;
 
   // Sizes the node box to cover the stencils of the positions (and of `extra` points, e.g. ghost
   // particles), zeroes it and bins the particles. Throws NumericalError naming a particle with a
@@ -82,7 +95,7 @@ class SolidGrid {
   bool two_fields() const { return two_fields_; }
   const GridNode& node(int field, size_t index) const { return field_[field][index]; }
   GridNode& node(int field, size_t index) { return field_[field][index]; }
-  const GVec3& crack_normal(size_t index) const { return normal_[index]; }
+  GVec3 crack_normal(size_t index) const { return GVec3(normal_[index].n[0], normal_[index].n[1], normal_[index].n[2]); }
   const Eigen::Vector3i& lower() const { return lo_; }
   const Eigen::Vector3i& dims() const { return dims_; }
   // The node index of a particle's stencil corner (its base node), valid after rebuild.
@@ -95,13 +108,20 @@ class SolidGrid {
   void for_particles_coloured(Fn&& fn) const;
 
  private:
+  // The crack normal of a node padded to four doubles (one vector in the kernels).
+  struct alignas(32) NodeNormal {
+    double n[4];
+  };
+  // The kernels' view of the grid (node pointers writable: the scatter fills them).
+  detail::TransferGrid raw() const;
   double dx_, inv_dx_;
+  const detail::TransferKernels* kernels_;
   Eigen::Vector3i lo_ = Eigen::Vector3i::Zero(), dims_ = Eigen::Vector3i::Zero();
   long stride_y_ = 0, stride_z_ = 0;
   bool two_fields_ = false;
   int slab_axis_ = 0;
   std::vector<GridNode> field_[2];
-  std::vector<GVec3> normal_;
+  std::vector<NodeNormal> normal_;
   std::vector<uint32_t> slab_offsets_, slab_order_;
 };
 

@@ -44,6 +44,8 @@ BrittleSolver::BrittleSolver(BrittleSolid& solid, SolverOptions options)
   if (!(options_.cfl > 0)) throw InputError("solver: cfl must be > 0");
   if (solid_.brittleness.size() != solid_.size() || solid_.failure_stress.size() != solid_.size())
     throw InputError("solver: call BrittleSolid::set_strength before solving");
+  if (!grid_.set_transfer_isa(options_.transfer_isa))
+    throw InputError("solver: the requested instruction set for the grid transfers is not available on this processor");
   fixed_dt_ = options_.dt > 0;
   dt_ = fixed_dt_ ? options_.dt : stable_time_step();
   damaged_ = solid_.count_damaged();

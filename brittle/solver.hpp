@@ -32,6 +32,9 @@ struct SolverOptions {
   bool field_contact = true;   // normal contact between the fields (Eq. 3.6-3.7)
   StoppingCriteria stop;
   size_t memory_limit = size_t{4} << 30;  // bytes the dense grid may take
+  // Instruction set of the p2g/g2p kernels (Auto: AVX2 with FMA where the processor has them); results
+  // differ between sets by round-off only. The solver refuses a set the processor lacks.
+  SolidGrid::TransferIsa transfer_isa = SolidGrid::TransferIsa::Auto;
 };
 
 // Seconds spent in each stage since construction (wall clock, for summary.json).

@@ -1,0 +1,17 @@
+// The transfer kernels of SolidGrid for the baseline instruction set of the build (SSE2 on x86-64, NEON, ...).
+#include <cmath>
+#include <cstring>
+
+#include "brittle/solid_transfer.hpp"
+
+namespace shellfrac::brittle::detail {
+namespace {
+#include "brittle/solid_transfer_impl.hpp"
+}  // namespace
+
+const TransferKernels& transfer_kernels_generic() {
+  static const TransferKernels k{scatter_kernel, gather_kernel, "generic"};
+  return k;
+}
+
+}  // namespace shellfrac::brittle::detail
