@@ -76,6 +76,7 @@ CrackGrid::CrackGrid(const std::vector<Vec3>& rest, const std::vector<double>& c
     if (weight[i] > 0) flags_[i] |= kActive;
     if (damaged[i] > 0) flags_[i] |= kDamaged;
   }
+  restore_islands(weight, damaged);
   // Damaged fraction of the rasterised weight: 1 inside the damaged region, falling to 0 across its
   // boundary, and unaffected by the domain boundary (where both weights fall off together).
   damaged_weight_.assign(n, -1.0f);
@@ -142,6 +143,66 @@ CrackGrid::CrackGrid(const std::vector<Vec3>& rest, const std::vector<double>& c
     }
   }
   flags_.swap(f);
+}
+
+void CrackGrid::restore_islands(const std::vector<double>& weight, const std::vector<double>& damaged) {
+  // Candidates: damaged nodes where intact particles hold at least half of the rasterised weight.
+  const size_t n = flags_.size();
+  auto candidate = [&](size_t i) { return (flags_[i] & kDamaged) && damaged[i] <= 0.5 * weight[i]; };
+  std::vector<int> group(n, -1);
+  std::vector<size_t> members, queue;
+  int next = 0;
+  for (size_t start = 0; start < n; ++start) {
+    if (group[start] != -1 || !candidate(start)) continue;
+    // One 26-connected group of candidates; it is swallowed if no node next to it is intact already.
+    members.clear();
+    queue.assign(1, start);
+    group[start] = -2;
+    bool touches_intact = false;
+    while (!queue.empty()) {
+      const size_t i = queue.back();
+      queue.pop_back();
+      members.push_back(i);
+      const Eigen::Vector3i c = coords(i);
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const long j = index(c.x() + dx, c.y() + dy, c.z() + dz);
+            if (j < 0) continue;
+            const size_t u = static_cast<size_t>(j);
+            if ((flags_[u] & kActive) && !(flags_[u] & kDamaged)) touches_intact = true;
+            if (group[u] == -1 && candidate(u)) {
+              group[u] = -2;
+              queue.push_back(u);
+            }
+          }
+    }
+    if (touches_intact) continue;  // the flank of an ordinary crack band
+    if (island_.empty()) island_.assign(n, -1);
+    for (size_t i : members) {
+      island_[i] = next;
+      flags_[i] = static_cast<uint16_t>((flags_[i] & ~kDamaged) | kIsland);
+    }
+    ++next;
+  }
+  islands_ = static_cast<size_t>(next);
+}
+
+int CrackGrid::bordering_island(size_t n) const {
+  if (island_.empty()) return -1;
+  const Eigen::Vector3i c = coords(n);
+  int found = -1;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const long j = index(c.x() + dx, c.y() + dy, c.z() + dz);
+        if (j < 0) continue;
+        const size_t u = static_cast<size_t>(j);
+        if (!(flags_[u] & kActive) || (flags_[u] & kDamaged)) continue;  // not intact
+        if (island_[u] < 0 || (found >= 0 && island_[u] != found)) return -2;
+        found = island_[u];
+      }
+  return found;
 }
 
 Vec3 CrackGrid::position(size_t n) const { return (coords(n) + lo_).cast<double>() * h_; }

@@ -21,6 +21,7 @@ enum NodeSet : uint16_t {
   kInterior = 1 << 10,  // damaged nodes not in D: the inside of the damaged region ("damage == 1")
   kSetBdNear = 1 << 11, // B' nodes near S, oriented like E so the crack also splits the outer cells
   kSetBdExit = 1 << 12, // B' nodes in front of the middle of a crack's exit: left out of the sites
+  kIsland = 1 << 13,    // intact nodes of a clump the damaged region swallowed (not in the thesis, see below)
 };
 
 struct CrackGridOptions {
@@ -32,7 +33,17 @@ struct CrackGridOptions {
 
 // The grid of spacing h_v the crack is extracted on (thesis sec. 3.3.1): particle weights and fully
 // damaged particle weights rasterised with the MPM quadratic kernel in material space (Eq. 3.1), and the
-// node sets of Table 3.1. Throws InputError, before allocating, when h_v is not positive or the grid
+// node sets of Table 3.1.
+//
+// Islands (not in the thesis): a node is damaged when any fully damaged particle reaches it (u_i > 0,
+// sec. 3.3.1), which dilates the damaged region by the kernel radius 1.5 h_v. In a shattered object the
+// intact particles are left in clumps smaller than 3 h_v, and the dilation swallows them: no node stays
+// intact, D holds only surface nodes (all in S), V is empty and the object comes out whole. So intact
+// material the dilation hid is restored: damaged nodes where intact particles hold at least half of the
+// rasterised weight, grouped by 26-connectivity, become intact again (kIsland) when a group touches no
+// intact node of the thesis's rule (a group that does is the flank of an ordinary crack band and is
+// left alone, so thin cracks are extracted as before). Their damaged neighbours then enter D and V, and
+// Algorithm 1 puts the medial surface between the clumps. Throws InputError, before allocating, when h_v is not positive or the grid
 // would exceed the memory limit (with the estimate).
 class CrackGrid {
  public:
@@ -58,6 +69,12 @@ class CrackGrid {
   // Unit outward normal of the damaged region at node n: minus the central-difference gradient of the
   // damaged fraction of the rasterised weight (well defined on D, where it falls off); zero if flat.
   Vec3 damage_normal(size_t n) const;
+  // Intact clump (island) a node belongs to, -1 for none; islands are numbered from 0.
+  int island(size_t n) const { return island_.empty() ? -1 : island_[n]; }
+  // The island all intact 26-neighbours of node n belong to: -1 when it has none, -2 when they belong
+  // to different islands or to the thesis's intact region.
+  int bordering_island(size_t n) const;
+  size_t island_count() const { return islands_; }
   // Estimated bytes for a grid covering [lo, hi] at spacing h (for the refusal message and callers).
   static double memory_estimate(const Vec3& lo, const Vec3& hi, double h);
 
@@ -66,6 +83,9 @@ class CrackGrid {
   Eigen::Vector3i lo_, dims_;
   std::vector<uint16_t> flags_;
   std::vector<float> damaged_weight_;
+  void restore_islands(const std::vector<double>& weight, const std::vector<double>& damaged);
+  std::vector<int> island_;  // per node, empty when there is no island
+  size_t islands_ = 0;
 };
 
 }  // namespace shellfrac::brittle

@@ -167,6 +167,10 @@ CrackExtraction extract_crack(const std::vector<Vec3>& rest, const std::vector<d
   auto across_damage = [&](int a, int b) {
     const size_t na = static_cast<size_t>(out.site_node[static_cast<size_t>(a)]);
     const size_t nb = static_cast<size_t>(out.site_node[static_cast<size_t>(b)]);
+    // Two nodes around one restored island (CrackGrid) face the same intact clump: the same side, even
+    // when the chord between them passes beside a small clump through broken material.
+    const int island = grid.bordering_island(na);
+    if (island >= 0 && island == grid.bordering_island(nb)) return false;
     const Vec3 xa = grid.position(na), xb = grid.position(nb), mid = 0.5 * (xa + xb);
     if (fully_damaged_at(mid)) return true;
     if (grid.interior_fraction(mid) < 0.5) return false;

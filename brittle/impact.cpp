@@ -1,5 +1,6 @@
 #include "brittle/impact.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -20,19 +21,51 @@ std::vector<GhostParticle> impact_ghosts(const Impact& im, const TriMesh& mesh, 
   const Vec3 dir = im.direction.normalized();
   const double radius = im.radius > 0 ? im.radius : 2.0 * solid.spacing;
 
-  // Elements around the point; the nearest element's distance decides whether the point is on the object.
-  std::vector<size_t> chosen;
+  // The contact patch is the part of the surface within `radius` of the point (thesis sec. 3.9: a
+  // circular area). Each element that reaches into it gets one ghost at the centroid of its part inside,
+  // carrying the force in proportion to that part's area: a uniform traction I n / (t_c A) over the
+  // patch (Eq. 3.12), whatever the tessellation. (Choosing whole elements by their centroids put the
+  // whole load of an impact at the centre of a coarsely meshed face, e.g. a box face of four large
+  // triangles, on the centroid of the nearest triangle, several centimetres off the point.)
+  struct Patch {
+    Vec3 centroid, normal;
+    double area;
+  };
+  std::vector<Patch> patches;
   double nearest = std::numeric_limits<double>::infinity();
   size_t nearest_tri = 0;
+  Vec3 nearest_point = Vec3::Zero();
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const Tri& tri = mesh.triangles[t];
     const Vec3 &a = mesh.positions[tri[0]], &b = mesh.positions[tri[1]], &c = mesh.positions[tri[2]];
-    const double d = (closest_point_on_triangle(im.point, a, b, c) - im.point).norm();
+    const Vec3 q = closest_point_on_triangle(im.point, a, b, c);
+    const double d = (q - im.point).norm();
     if (d < nearest) {
       nearest = d;
       nearest_tri = t;
+      nearest_point = q;
     }
-    if (((a + b + c) / 3.0 - im.point).norm() <= radius) chosen.push_back(t);
+    if (d > radius) continue;
+    const Vec3 n = (b - a).cross(c - a);
+    if (!(n.norm() > 0)) continue;
+    // The part inside the ball, by a barycentric subdivision fine against the radius (at most 64^2).
+    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    const int k = std::clamp(static_cast<int>(std::ceil(8.0 * longest / radius)), 1, 64);
+    const double sub_area = 0.5 * n.norm() / (k * k);
+    double inside = 0;
+    Vec3 centroid = Vec3::Zero();
+    const Vec3 e1 = (b - a) / k, e2 = (c - a) / k;
+    for (int i = 0; i < k; ++i)
+      for (int j = 0; i + j < k; ++j) {
+        const Vec3 o = a + i * e1 + j * e2;
+        const Vec3 up = o + (e1 + e2) / 3.0;                 // centroid of the upright sub-triangle
+        if ((up - im.point).norm() <= radius) inside += sub_area, centroid += sub_area * up;
+        if (i + j + 1 < k) {
+          const Vec3 down = o + 2.0 * (e1 + e2) / 3.0;         // and of the inverted one next to it
+          if ((down - im.point).norm() <= radius) inside += sub_area, centroid += sub_area * down;
+        }
+      }
+    if (inside > 0) patches.push_back({centroid / inside, n.normalized(), inside});
   }
   const double tolerance = std::max(radius, 2.0 * solid.spacing);
   if (!(nearest <= tolerance)) {
@@ -41,15 +74,17 @@ std::vector<GhostParticle> impact_ghosts(const Impact& im, const TriMesh& mesh, 
       << "' (more than " << tolerance << " m): impacts must touch the object";
     fail(m.str());
   }
-  if (chosen.empty()) chosen.push_back(nearest_tri);
+  if (patches.empty()) {  // the point is off the surface by more than the radius: its closest point
+    const Tri& tri = mesh.triangles[nearest_tri];
+    const Vec3 n = (mesh.positions[tri[1]] - mesh.positions[tri[0]]).cross(mesh.positions[tri[2]] - mesh.positions[tri[0]]);
+    if (n.norm() > 0) patches.push_back({nearest_point, n.normalized(), 0.5 * n.norm()});
+  }
 
   double area = 0;
   Vec3 mean_normal = Vec3::Zero();
-  for (size_t t : chosen) {
-    const Tri& tri = mesh.triangles[t];
-    const Vec3 n = (mesh.positions[tri[1]] - mesh.positions[tri[0]]).cross(mesh.positions[tri[2]] - mesh.positions[tri[0]]);
-    area += 0.5 * n.norm();
-    mean_normal += 0.5 * n;
+  for (const Patch& pa : patches) {
+    area += pa.area;
+    mean_normal += pa.area * pa.normal;
   }
   if (!(area > 0)) fail("touches only degenerate (zero-area) triangles");
   if (!(dir.dot(mean_normal) < 0)) {
@@ -60,15 +95,10 @@ std::vector<GhostParticle> impact_ghosts(const Impact& im, const TriMesh& mesh, 
   }
   const Vec3 total_force = (im.impulse / im.duration) * dir;
   std::vector<GhostParticle> ghosts;
-  for (size_t t : chosen) {
-    const Tri& tri = mesh.triangles[t];
-    const Vec3 &a = mesh.positions[tri[0]], &b = mesh.positions[tri[1]], &c = mesh.positions[tri[2]];
-    const Vec3 n = (b - a).cross(c - a);
-    const double ae = 0.5 * n.norm();
-    if (!(ae > 0)) continue;
+  for (const Patch& pa : patches) {
     GhostParticle g;
-    g.rest = (a + b + c) / 3.0 - 0.5 * solid.spacing * n.normalized();  // just inside, where nodes have mass
-    g.force = total_force * (ae / area);  // traction I n / (t_c A_e) spread in proportion to area
+    g.rest = pa.centroid - 0.5 * solid.spacing * pa.normal;  // just inside, where nodes have mass
+    g.force = total_force * (pa.area / area);  // traction I n / (t_c A) times the patch's area
     g.start = im.start_time;
     g.end = im.start_time + im.duration;
     double best = std::numeric_limits<double>::infinity();

@@ -16,9 +16,10 @@ struct Impact {
   double impulse = 0;             // I [N s]
   double duration = 0;            // t_c [s]; e.g. from hertz_contact_time
   double start_time = 0;          // [s]
-  // The force is spread over the surface triangles whose centroids lie within this distance of the
-  // point (thesis sec. 3.9: a circular area avoids the exaggerated damage of a point load); 0 means two
-  // particle spacings. The nearest triangle alone if none is that close.
+  // The force is spread uniformly over the surface within this distance of the point (thesis sec. 3.9:
+  // a circular area avoids the exaggerated damage of a point load), one ghost per triangle at the
+  // centroid of its part inside; 0 means two particle spacings. The surface's closest point alone if no
+  // triangle reaches that close.
   double radius = 0;
 };
 

@@ -79,5 +79,36 @@ TEST(Damage, DamageStepUnderUniaxialStretch) {
   EXPECT_EQ(full.tau, 2.0);
 }
 
+// Issue 16 (slab-sphere showed a crushed patch): the damage law must not damage under compression and
+// must weaken only tension. Hydrostatic and confined uniaxial compression (all principal stresses < 0)
+// leave c = 0 and the undamaged stress even for a tiny sigma_f; a stretched-and-squeezed state that is
+// fully damaged keeps its compressive principal stress exactly (thesis Eq. 2.29-2.31).
+TEST(Damage, CompressionNeverDamagesAndKeepsItsStress) {
+  const double mu = 1e6, lambda = 1.5e6, V = 1e-6, sf = 1.0, H = 0.5;
+  for (const Eigen::Vector3d& stretch : {Eigen::Vector3d(0.97, 0.97, 0.97), Eigen::Vector3d(0.9, 1.0, 1.0)}) {
+    const Eigen::Matrix3d F = stretch.asDiagonal();
+    ParticleDamage st;
+    const Eigen::Matrix3d S = damage_step(F, V, mu, lambda, sf, H, DamageRule::Monotone, 1.0, st);
+    EXPECT_EQ(st.c, 0.0) << stretch.transpose();
+    EXPECT_EQ(st.c_his, 0.0);
+    EXPECT_LT((S - V * neo_hookean_kirchhoff(F, mu, lambda)).norm(), 1e-12 * V * mu);
+  }
+  // Stretch 1.3 along x, squeeze 0.7 along y in a rotated frame: x in tension far past sigma_f (1 + 1/H),
+  // y in compression. Fully damaged: the tensile principal stress is gone, the compressive one is kept.
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.4, Eigen::Vector3d(0, 0, 1)).toRotationMatrix();
+  const Eigen::Matrix3d F = R * Eigen::Vector3d(1.3, 0.7, 1.0).asDiagonal() * R.transpose();
+  const double J = 1.3 * 0.7;
+  const double sx = (mu * (1.3 * 1.3 - 1) + lambda * std::log(J)) / J, sy = (mu * (0.7 * 0.7 - 1) + lambda * std::log(J)) / J,
+               sz = lambda * std::log(J) / J;
+  ASSERT_GT(sx, sf * (1 + 1 / H));
+  ASSERT_LT(sy, 0.0);
+  ASSERT_LT(sz, 0.0);
+  ParticleDamage st;
+  const Eigen::Matrix3d S = damage_step(F, V, mu, lambda, sf, H, DamageRule::Healing, 1.0, st);
+  EXPECT_EQ(st.c, 1.0);
+  const Eigen::Matrix3d expected = V * J * (R * Eigen::Vector3d(0.0, sy, sz).asDiagonal() * R.transpose());
+  EXPECT_LT((S - expected).norm(), 1e-9 * V * mu);
+}
+
 }  // namespace
 }  // namespace shellfrac::brittle

@@ -48,6 +48,37 @@ TEST(Impact, GhostParticlesDeliverTheImpulse) {
   EXPECT_LT((p - im.impulse * im.direction.normalized()).norm(), 1e-3 * im.impulse);
 }
 
+// The contact patch must not depend on the tessellation (issue 16: a slab struck at its centre): on a box
+// whose top face is four triangles of 0.1 m, an impact at the face centre with radius 1 cm used to put its
+// whole load on the centroid of the nearest triangle, 4.7 cm off the point. The ghosts' force-weighted
+// centre must be the point (to a tenth of the radius) and every ghost within the radius of it; on a finely
+// meshed face the same impact gives the same centre.
+TEST(Impact, LoadIsCentredOnThePointWhateverTheMesh) {
+  for (const int subdivisions : {1, 2, 16}) {
+    const TriMesh mesh = box_mesh(Vec3(0, 0, 0.01), Vec3(0.1, 0.1, 0.01), subdivisions);
+    BrittleSolid solid = make_solid(mesh, testing::soft_material(), 0.01, Sampling::Regular, 1, "slab");
+    Impact im;
+    im.point = Vec3(0, 0, 0.02);
+    im.direction = Vec3(0, 0, -1);
+    im.impulse = 1.0;
+    im.duration = 1e-3;
+    im.radius = 0.01;
+    const std::vector<GhostParticle> ghosts = impact_ghosts(im, mesh, solid, "slab");
+    Vec3 centre = Vec3::Zero(), total = Vec3::Zero();
+    for (const GhostParticle& g : ghosts) {
+      centre += g.force.z() * g.rest;
+      total += g.force;
+      const Vec3 surface = g.rest + Vec3(0, 0, 0.5 * solid.spacing);
+      EXPECT_LE((surface - im.point).norm(), im.radius + 1e-12) << subdivisions;
+    }
+    centre /= total.z();
+    std::printf("MEASURE impact centre with %d subdivisions: (%.3g, %.3g), %zu ghosts\n", subdivisions, centre.x(),
+                centre.y(), ghosts.size());
+    EXPECT_LT(std::hypot(centre.x(), centre.y()), 0.1 * im.radius) << subdivisions;
+    EXPECT_LT((total - Vec3(0, 0, -1e3)).norm(), 1e-9) << subdivisions;
+  }
+}
+
 TEST(Impact, BadImpactsAreRefused) {
   Block b;
   Impact im;
