@@ -297,11 +297,36 @@ void SparseGrid::update_velocities(double dt, const Vec3& gravity) {
   });
 }
 
+namespace {
+
+// True when the FLIP shares are not one value for every particle: per-particle shares, or sets that differ.
+bool shares_vary(const std::vector<ParticleSet>& sets) {
+  for (const ParticleSet& s : sets)
+    if (s.flip_share || s.flip != sets.front().flip) return true;
+  return false;
+}
+
+// Mass-weighted sums of one block's dissipated FLIP residual: sum m_p (1 - r_p) delta_p and sum m_p (1 - r_p).
+struct ResidualSum {
+  Vec3 residual = Vec3::Zero();
+  double weight = 0;
+};
+
+}  // namespace
+
 void SparseGrid::transfer_to_particles(const std::vector<ParticleSet>& sets) const {
   const double inv_d = apic_inverse_d(dx_);
+  // With one FLIP share r for every particle, the FLIP part m_p r (v_p - sum_i w_ip v_i^old) sums to zero
+  // over all particles (it cancels against the p2g momentum sum_i m_i v_i^old), so linear momentum is
+  // exactly that of the PIC update. With shares r_p that differ it does not: the dissipated part
+  // m_p (1 - r_p) delta_p of the residual delta_p is gathered per block and its weighted mean added back to
+  // the dissipating particles below.
+  const bool varying = !sets.empty() && shares_vary(sets);
+  std::vector<ResidualSum> block_sums(varying ? block_coords_.size() : 0);
   // Gather: each particle reads its stencil; blocks are independent, so any order gives the same result.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, block_coords_.size(), 2), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t b = r.begin(); b != r.end(); ++b) {
+      ResidualSum sum;
       for (uint32_t e = bin_offsets_[b]; e < bin_offsets_[b + 1]; ++e) {
         const ParticleSet& s = sets[entries_[e].set];
         const uint32_t p = entries_[e].index;
@@ -310,7 +335,8 @@ void SparseGrid::transfer_to_particles(const std::vector<ParticleSet>& sets) con
         Vec3 v = Vec3::Zero(), v_old = Vec3::Zero();
         Mat3 C = Mat3::Zero(), grad = Mat3::Zero();
         const uint32_t si = entries_[e].set;
-        const bool flip = s.flip > 0;
+        const double share = s.flip_share ? s.flip_share[p] : s.flip;
+        const bool flip = share > 0 || varying;
         for_stencil(static_cast<uint32_t>(b), sw, [&](size_t grid_node, int i, int j, int k) {
           const size_t node = target(si, p, grid_node, i, j, k);
           const Vec3& vi = velocity_[node];
@@ -324,14 +350,41 @@ void SparseGrid::transfer_to_particles(const std::vector<ParticleSet>& sets) con
           }
           if (s.velocity_gradient) grad += vi * sw.gradient(i, j, k).transpose();
         });
-        // Summed over all particles (every set with the same share), the FLIP part
-        // m_p (v_p - sum_i w_ip v_i^old) cancels against the p2g momentum sum_i m_i v_i^old, so linear
-        // momentum is exactly that of the PIC update.
-        s.velocity[p] = flip ? Vec3(v + s.flip * (s.velocity[p] - v_old)) : v;
+        if (flip) {
+          const Vec3 residual = s.velocity[p] - v_old;  // delta_p: the particle's velocity the grid did not carry
+          if (varying && s.mass[p] > 0) {
+            sum.residual += (s.mass[p] * (1 - share)) * residual;
+            sum.weight += s.mass[p] * (1 - share);
+          }
+          s.velocity[p] = v + share * residual;
+        } else {
+          s.velocity[p] = v;
+        }
         if (s.affine) s.affine[p] = C;
         if (s.velocity_gradient) s.velocity_gradient[p] = grad;
       }
+      if (varying) block_sums[b] = sum;
     }
+  });
+  if (!varying) return;
+  // Blocks summed in block order: the same result for any thread count.
+  ResidualSum total;
+  for (const ResidualSum& b : block_sums) {
+    total.residual += b.residual;
+    total.weight += b.weight;
+  }
+  if (total.weight <= 0) return;
+  // v_p <- v_PIC + r_p delta_p + (1 - r_p) mean: then sum_p m_p v_p = sum_p m_p v_PIC + sum_p m_p delta_p,
+  // and the last sum is zero.
+  const Vec3 mean = total.residual / total.weight;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, block_coords_.size(), 2), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t b = r.begin(); b != r.end(); ++b)
+      for (uint32_t e = bin_offsets_[b]; e < bin_offsets_[b + 1]; ++e) {
+        const ParticleSet& s = sets[entries_[e].set];
+        const uint32_t p = entries_[e].index;
+        const double share = s.flip_share ? s.flip_share[p] : s.flip;
+        if (share < 1) s.velocity[p] += (1 - share) * mean;
+      }
   });
 }
 
