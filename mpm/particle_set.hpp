@@ -28,6 +28,10 @@ struct ParticleSet {
   // i.e. the particle keeps this share of its own velocity and adds the grid's velocity change
   // (Brackbill's FLIP blended with PIC; with affine set, the affine-FLIP of Fei et al. 2021). 0 = PIC/APIC.
   double flip = 0.0;
+  // Per-particle FLIP share, overriding `flip` when set (the adaptive transfer, sim/transfer_shares.hpp).
+  // When the shares of the particles differ, g2p adds to each particle (1 - r_p) times the weighted mean
+  // residual so that linear momentum stays exactly that of PIC (mpm/sparse_grid.cpp).
+  const double* flip_share = nullptr;
 };
 
 }  // namespace shellfrac::mpm

@@ -433,13 +433,38 @@ void SparseGrid::update_velocities(double dt, const Vec3& gravity) {
   });
 }
 
+namespace {
+
+// True when the FLIP shares are not one value for every particle: per-particle shares, or sets that differ.
+bool shares_vary(const std::vector<ParticleSet>& sets) {
+  for (const ParticleSet& s : sets)
+    if (s.flip_share || s.flip != sets.front().flip) return true;
+  return false;
+}
+
+// Mass-weighted sums of one block's dissipated FLIP residual: sum m_p (1 - r_p) delta_p and sum m_p (1 - r_p).
+struct ResidualSum {
+  Vec3 residual = Vec3::Zero();
+  double weight = 0;
+};
+
+}  // namespace
+
 void SparseGrid::transfer_to_particles(const std::vector<ParticleSet>& sets) const {
   const double inv_d = apic_inverse_d(dx_);
+  // With one FLIP share r for every particle, the FLIP part m_p r (v_p - sum_i w_ip v_i^old) sums to zero
+  // over all particles (it cancels against the p2g momentum sum_i m_i v_i^old), so linear momentum is
+  // exactly that of the PIC update. With shares r_p that differ it does not: the dissipated part
+  // m_p (1 - r_p) delta_p of the residual delta_p is gathered per block and its weighted mean added back to
+  // the dissipating particles below.
+  const bool varying = !sets.empty() && shares_vary(sets);
+  std::vector<ResidualSum> block_sums(varying ? block_coords_.size() : 0);
   const Vec3* const velocity = velocity_.data();
   const Vec3* const momentum = momentum_.data();
   const double* const mass = mass_.data();
   // One particle's gather, compiled per combination of the optional outputs.
-  auto gather = [&](const ParticleSet& s, uint32_t p, size_t e, auto flip, auto affine, auto grad) {
+  auto gather = [&](const ParticleSet& s, uint32_t p, size_t e, double share, ResidualSum& sum, auto flip, auto affine,
+                    auto grad) {
     const ParticleStencil& st = stencil_[e];
     double wx[3], wy[3], wz[3], dwx[3], dwy[3], dwz[3];
     load_weights(st.w, st.dw, wx, wy, wz, dwx, dwy, dwz);
@@ -489,10 +514,16 @@ void SparseGrid::transfer_to_particles(const std::vector<ParticleSet>& sets) con
       }
       if (flip) v_old += wzk * Ok;
     }
-    // Summed over all particles (every set with the same share), the FLIP part
-    // m_p (v_p - sum_i w_ip v_i^old) cancels against the p2g momentum sum_i m_i v_i^old, so linear
-    // momentum is exactly that of the PIC update.
-    s.velocity[p] = flip ? Vec3(v + s.flip * (s.velocity[p] - v_old)) : v;
+    if (flip) {
+      const Vec3 residual = s.velocity[p] - v_old;  // delta_p: the particle's velocity the grid did not carry
+      if (varying && s.mass[p] > 0) {
+        sum.residual += (s.mass[p] * (1 - share)) * residual;
+        sum.weight += s.mass[p] * (1 - share);
+      }
+      s.velocity[p] = v + share * residual;
+    } else {
+      s.velocity[p] = v;
+    }
     if (affine) {
       // C = D^-1 sum w v_i (x_i - x_p)^T with x_i - x_p = d0 + dx (i, j, k) (thesis Eq. 2.25).
       Mat3 C;
@@ -511,15 +542,40 @@ void SparseGrid::transfer_to_particles(const std::vector<ParticleSet>& sets) con
   };
   // Gather: each particle reads its stencil; blocks are independent, so any order gives the same result.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, block_coords_.size(), 2), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t b = r.begin(); b != r.end(); ++b) {
+      ResidualSum sum;
+      for (uint32_t e = bin_offsets_[b]; e < bin_offsets_[b + 1]; ++e) {
+        const ParticleSet& s = sets[entries_[e].set];
+        const uint32_t p = entries_[e].index;
+        const double share = s.flip_share ? s.flip_share[p] : s.flip;
+        with_flag(share > 0 || varying, [&](auto flip) {
+          with_flag(s.affine != nullptr, [&](auto affine) {
+            with_flag(s.velocity_gradient != nullptr,
+                      [&](auto grad) { gather(s, p, e, share, sum, flip, affine, grad); });
+          });
+        });
+      }
+      if (varying) block_sums[b] = sum;
+    }
+  });
+  if (!varying) return;
+  // Blocks summed in block order: the same result for any thread count.
+  ResidualSum total;
+  for (const ResidualSum& b : block_sums) {
+    total.residual += b.residual;
+    total.weight += b.weight;
+  }
+  if (total.weight <= 0) return;
+  // v_p <- v_PIC + r_p delta_p + (1 - r_p) mean: then sum_p m_p v_p = sum_p m_p v_PIC + sum_p m_p delta_p,
+  // and the last sum is zero.
+  const Vec3 mean = total.residual / total.weight;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, block_coords_.size(), 2), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t b = r.begin(); b != r.end(); ++b)
       for (uint32_t e = bin_offsets_[b]; e < bin_offsets_[b + 1]; ++e) {
         const ParticleSet& s = sets[entries_[e].set];
         const uint32_t p = entries_[e].index;
-        with_flag(s.flip > 0, [&](auto flip) {
-          with_flag(s.affine != nullptr, [&](auto affine) {
-            with_flag(s.velocity_gradient != nullptr, [&](auto grad) { gather(s, p, e, flip, affine, grad); });
-          });
-        });
+        const double share = s.flip_share ? s.flip_share[p] : s.flip;
+        if (share < 1) s.velocity[p] += (1 - share) * mean;
       }
   });
 }

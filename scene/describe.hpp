@@ -575,11 +575,17 @@ void describe(V& v, Output& o) {
 template <class V>
 void describe(V& v, Grid& g) {
   v.number("dx", g.dx, Range::positive());
-  v.choice("transfer", g.transfer, {"pic", "apic", "flip", "aflip"});
+  v.choice("transfer", g.transfer, {"adaptive", "pic", "apic", "flip", "aflip"});
   v.number("flip_ratio", g.flip_ratio, Range::closed(0.0, 1.0));
+  v.number("flip_ratio_active", g.flip_ratio_active, Range::closed(0.0, 1.0));
   v.check("flip_ratio", [&] {
     return g.flip_ratio && g.transfer && (*g.transfer == "pic" || *g.transfer == "apic")
-               ? "\"flip_ratio\" needs \"transfer\": \"flip\" or \"aflip\""
+               ? "\"flip_ratio\" needs \"transfer\": \"adaptive\", \"flip\" or \"aflip\""
+               : "";
+  });
+  v.check("flip_ratio_active", [&] {
+    return g.flip_ratio_active && g.transfer && *g.transfer != "adaptive"
+               ? "\"flip_ratio_active\" needs \"transfer\": \"adaptive\""
                : "";
   });
 }

@@ -159,6 +159,10 @@ struct BrittleBody {
 
 // FLIP share of grid.transfer "flip"/"aflip" when no flip_ratio is given (docs/shell-model.md).
 inline constexpr double kDefaultFlipRatio = 0.99;
+// Shares of the adaptive transfer: intact elastic material keeps all of its own velocity
+// (energy-conserving affine-FLIP), material next to damage, plastic flow or a crack none of it (APIC).
+inline constexpr double kDefaultIntactFlipRatio = 1.0;
+inline constexpr double kDefaultActiveFlipRatio = 0.0;
 
 // Background grid and transfer scheme.
 struct GridSettings {
@@ -166,6 +170,10 @@ struct GridSettings {
   bool apic = false;         // PIC (the thesis's choice) or APIC
   // FLIP share of the g2p velocity update, on every particle set (mpm/particle_set.hpp): 0 = plain PIC/APIC.
   double flip = 0.0;
+  // Adaptive transfer (sim/transfer_shares.hpp): `flip` is the share on intact elastic material and
+  // `flip_active` the share next to damage, plastic flow or a crack, chosen per particle every step.
+  bool adaptive = false;
+  double flip_active = 0.0;
 };
 
 struct ColliderSpec {

@@ -142,6 +142,8 @@ class ShellPatch {
   void update_shear_particles(double dt);
   // Largest accumulated equivalent plastic strain over the layer points (0 when elastic).
   double max_plastic_strain() const;
+  // Accumulated equivalent plastic strain per layer point, index q * num_layers() + layer (empty when elastic).
+  const std::vector<double>& plastic_strain_values() const { return plastic_strain_; }
   // Total elastic energy Psi = sum_q V_q psi(F_q) of the current configuration.
   double elastic_energy() const;
   // Per in-plane point, the largest absolute principal in-plane Cauchy stress on the mid-surface of the

@@ -84,6 +84,7 @@ Simulation::Simulation(const scene::Model& model)
                                 " s): lower dt, or set \"allow_substepping\": true");
   for (const auto& c : model_.colliders) colliders_.push_back(c.collider);
   pins_.hold_initial_velocities(world_);
+  if (model_.grid.adaptive) shares_.attach(world_, model_);
   // Prescribed cuts may already reach a seam.
   seams_.update_cracks(world_, cracks_);
   cracks_.count_state(world_);
@@ -224,8 +225,12 @@ void Simulation::stage_grid_update(double dt) {
 void Simulation::stage_g2p(double dt) {
   // FLIP keeps the particles' own share of the velocity, which the grid's damping never sees: damp that
   // share at the same rate (one factor for all sets keeps momentum exact).
-  const double flip = model_.grid.flip * (model_.damping > 0 ? std::exp(-model_.damping * dt) : 1.0);
-  for (mpm::ParticleSet& s : world_.particle_sets()) s.flip = flip;
+  const double keep = model_.damping > 0 ? std::exp(-model_.damping * dt) : 1.0;
+  if (model_.grid.adaptive) {
+    shares_.update(world_, model_.grid.flip * keep, model_.grid.flip_active * keep);
+  } else {
+    for (mpm::ParticleSet& s : world_.particle_sets()) s.flip = model_.grid.flip * keep;
+  }
   grid_.transfer_to_particles(world_.particle_sets());
   pins_.hold_velocities(world_, dt, time_ + dt);
   seams_.save_start_positions(world_);

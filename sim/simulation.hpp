@@ -29,6 +29,7 @@
 #include "sim/seam_system.hpp"
 #include "sim/span.hpp"
 #include "sim/stage_timer.hpp"
+#include "sim/transfer_shares.hpp"
 #include "sim/world.hpp"
 
 namespace shellfrac::sim {
@@ -137,6 +138,7 @@ class Simulation {
   std::vector<Eigen::Vector3d> pin_reaction_;  // per shell, from the last step
   PinSystem pins_;
   LoadSystem loads_;
+  TransferShares shares_;  // per-particle FLIP shares of the adaptive transfer
   std::vector<mpm::Collider> colliders_;
   mpm::SparseGrid grid_;
   CrackSystem cracks_;

@@ -143,7 +143,7 @@ TEST(SceneValues, RefusedLikeTheFile) {
   s.grid.transfer = "polypic";  // "flip" is a transfer since issue 15
   e = refusal(s);
   EXPECT_EQ(e.json_path(), "/grid/transfer");
-  EXPECT_EQ(e.message(), "unknown value \"polypic\": allowed are \"pic\", \"apic\", \"flip\", \"aflip\"");
+  EXPECT_EQ(e.message(), "unknown value \"polypic\": allowed are \"adaptive\", \"pic\", \"apic\", \"flip\", \"aflip\"");
 
   s = sheet_in_code();
   Pin pin;

@@ -1,0 +1,79 @@
+#include "sim/transfer_shares.hpp"
+
+#include <algorithm>
+
+namespace shellfrac::sim {
+
+void TransferShares::attach(World& world, const scene::Model& model) {
+  // Control points a seam sets or corrects after g2p (both rows on either side and the neighbours of the
+  // momentum correction, thesis Eq. 4.29-4.34): their velocities change outside the grid.
+  seam_held_.assign(world.num_shells(), {});
+  for (size_t i = 0; i < world.num_shells(); ++i) seam_held_[i].assign(world.shell(i).num_control_points(), 0);
+  for (const scene::model::InterfaceSpec& spec : model.interfaces) {
+    if (!spec.coupled) continue;
+    const coupling::Interface& c = spec.coupling;
+    auto mark = [&](int patch, const std::vector<int>& points) {
+      for (int k : points) seam_held_[static_cast<size_t>(patch)][static_cast<size_t>(k)] = 1;
+    };
+    for (const auto* rows : {&c.leader_row1, &c.leader_row2, &spec.leader_neighbours}) mark(c.leader_patch, *rows);
+    for (const auto* rows : {&c.follower_row1, &c.follower_row2, &spec.follower_neighbours}) mark(c.follower_patch, *rows);
+  }
+  control_.resize(world.num_shells());
+  shear_.resize(world.num_shells());
+  solid_.resize(world.num_solids());
+  for (size_t i = 0; i < world.num_shells(); ++i) {
+    control_[i].assign(world.shell(i).num_control_points(), 0.0);
+    shear_[i].assign(world.shell(i).shear.x.size(), 0.0);
+    world.particle_sets()[world.control_set(i)].flip_share = control_[i].data();
+    world.particle_sets()[world.shear_set(i)].flip_share = shear_[i].data();
+  }
+  for (size_t s = 0; s < world.particle_sets().size(); ++s) {
+    const SetRef& r = world.set(s);
+    if (r.kind != SetKind::SolidParticles) continue;
+    solid_[r.body].assign(world.solid(r.body).size(), 0.0);
+    world.particle_sets()[s].flip_share = solid_[r.body].data();
+  }
+}
+
+void TransferShares::update(const World& world, double intact, double active) {
+  active_count_ = 0;
+  for (size_t i = 0; i < world.num_shells(); ++i) {
+    const shell::ShellPatch& patch = world.shell(i);
+    const size_t layers = static_cast<size_t>(patch.num_layers());
+    const std::vector<double>& damage = patch.damage_values();
+    const std::vector<double>& plastic = patch.plastic_strain_values();
+    // A cell is active when any of its layer points is damaged, has flowed plastically, or no longer uses
+    // the plain NURBS basis (a crack runs through its support).
+    cell_active_.assign(patch.num_cells(), 0);
+    for (size_t q = 0; q < patch.num_inplane_points(); ++q) {
+      bool hit = patch.point_level(q) != shell::BasisLevel::Nurbs;
+      for (size_t l = 0; l < layers && !hit; ++l) {
+        const size_t k = q * layers + l;
+        hit = (!damage.empty() && damage[k] > 0) || (!plastic.empty() && plastic[k] > 0);
+      }
+      if (hit) cell_active_[patch.cell_of(q)] = 1;
+    }
+    const std::vector<unsigned char>& control_near = patch.control_near_crack();
+    std::vector<double>& control = control_[i];
+    std::fill(control.begin(), control.end(), intact);
+    for (size_t k = 0; k < control.size(); ++k)
+      if (k < control_near.size() && control_near[k]) control[k] = active;
+    const int support = patch.support_size();
+    for (size_t c = 0; c < patch.num_cells(); ++c) {
+      if (!cell_active_[c]) continue;
+      const int* ids = patch.support(c);
+      for (int j = 0; j < support; ++j) control[static_cast<size_t>(ids[j])] = active;
+    }
+    for (size_t k = 0; k < control.size(); ++k)
+      if (seam_held_[i][k]) control[k] = active;
+    std::fill(shear_[i].begin(), shear_[i].end(), active);
+    if (intact != active) active_count_ += static_cast<size_t>(std::count(control.begin(), control.end(), active));
+    active_count_ += shear_[i].size();
+  }
+  for (std::vector<double>& s : solid_) {
+    std::fill(s.begin(), s.end(), active);
+    active_count_ += s.size();
+  }
+}
+
+}  // namespace shellfrac::sim

@@ -1,0 +1,42 @@
+#pragma once
+// The adaptive particle-grid transfer (issue 15, docs/shell-model.md "Transfer"): each particle's FLIP share
+// is chosen every step from the state of the material it carries.
+//  - Intact elastic material keeps the share `intact` (default 1, affine-FLIP): its bending and swinging
+//    energy is not dissipated by the transfer, which PIC and APIC do at a rate growing with cell / thickness.
+//  - A control point or shear particle whose support holds a damaged or plastically deformed layer point,
+//    or that takes part in an MLS basis beside a crack, keeps the share `active` (default 0, APIC). There,
+//    velocity components the grid cannot see would otherwise never be damped and grow (pure FLIP diverged in
+//    the plastic-dent and mode-I tear tests), and separated fragments would not meet through the grid.
+//  - Control points that a coupled seam sets or corrects after g2p take `active`: the seam changes their
+//    velocity where the grid cannot see it.
+//  - Shear particles (Type III) always take `active`: their positions follow the control points (thesis
+//    Eq. 4.10), their velocity only carries their mass to the grid, and a FLIP share would let it drift away
+//    from the motion it stands for (a clamped plate's support reaction was then 1.3% off its weight).
+//  - Solid particles (Type I) take `active`: their Neo-Hookean bulk has no thin-shell bending to keep.
+// The shares differ between particles, so the grid's g2p restores exact linear momentum (mpm/sparse_grid.cpp).
+#include <vector>
+
+#include "sim/world.hpp"
+
+namespace shellfrac::sim {
+
+class TransferShares {
+ public:
+  // Points the world's particle sets at per-particle share arrays.
+  void attach(World& world, const scene::Model& model);
+  // Rewrites every share from the current damage, plastic strain and crack state.
+  void update(const World& world, double intact, double active);
+  // Share of control point k / shear particle c of shell i (after update()).
+  double control(size_t shell, size_t k) const { return control_[shell][k]; }
+  double shear(size_t shell, size_t c) const { return shear_[shell][c]; }
+  // Particles currently at the active share, over all shells (a diagnostic for summaries and tests).
+  size_t num_active() const { return active_count_; }
+
+ private:
+  std::vector<std::vector<double>> control_, shear_, solid_;
+  std::vector<std::vector<unsigned char>> seam_held_;  // per shell and control point: set by a seam
+  std::vector<unsigned char> cell_active_;  // scratch, per cell of the shell being updated
+  size_t active_count_ = 0;
+};
+
+}  // namespace shellfrac::sim

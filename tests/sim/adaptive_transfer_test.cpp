@@ -1,0 +1,104 @@
+// The adaptive transfer (sim/transfer_shares.hpp, "transfer": "adaptive"): intact elastic particles keep FLIP share 1,
+// particles next to a crack, damage or plastic flow share 0, and linear momentum stays exact although the
+// shares differ.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "scene/build.hpp"
+#include "scene/scene_error.hpp"
+#include "sim/simulation.hpp"
+
+namespace shellfrac::sim {
+namespace {
+
+// A 0.4 x 0.2 m sheet with a prescribed cut from the bottom edge to the middle (u = 0.5, v in [0, 0.5]).
+std::string half_cut_sheet(const std::string& grid) {
+  return R"({"name": "cut", "gravity": [0, 0, 0], )" + grid + R"(
+    "shells": [{"name": "sheet", "patch": {"type": "flat", "size": [0.4, 0.2], "cells": [16, 8]},
+      "thickness": 0.001, "material": {"E": 1e5, "nu": 0.3, "density": 200},
+      "cuts": [{"points": [[0.5, 0.0], [0.5, 0.5]]}]}]})";
+}
+
+const char* kAdaptive = R"("grid": {"transfer": "adaptive"},)";
+
+TEST(AdaptiveTransfer, ShareOneOnIntactAndZeroBesideTheCut) {
+  const scene::Model model = scene::build_model(half_cut_sheet(kAdaptive), "cut.json");
+  EXPECT_TRUE(model.grid.adaptive);
+  EXPECT_FALSE(scene::build_model(half_cut_sheet(""), "cut.json").grid.adaptive);  // PIC stays the default
+  EXPECT_TRUE(model.grid.apic);
+  EXPECT_EQ(model.grid.flip, 1.0);
+  EXPECT_EQ(model.grid.flip_active, 0.0);
+  Simulation sim(model);
+  sim.step(0.5 * sim.stable_dt());
+  const mpm::ParticleSet& control = sim.world().particle_sets()[sim.world().control_set(0)];
+  const shell::ShellPatch& p = sim.world().shell(0);
+  ASSERT_NE(control.flip_share, nullptr);
+  // Independent count: a control point is active when it is in an MLS support or in the NURBS support of a
+  // cell holding a point whose basis is not plain NURBS.
+  std::vector<unsigned char> expect(p.num_control_points(), 0);
+  for (size_t k = 0; k < expect.size(); ++k) expect[k] = p.control_near_crack()[k];
+  for (size_t q = 0; q < p.num_inplane_points(); ++q)
+    if (p.point_level(q) != shell::BasisLevel::Nurbs)
+      for (int j = 0; j < p.support_size(); ++j) expect[static_cast<size_t>(p.support(p.cell_of(q))[j])] = 1;
+  size_t active = 0, far_intact = 0;
+  for (size_t k = 0; k < expect.size(); ++k) {
+    EXPECT_EQ(control.flip_share[k], expect[k] ? 0.0 : 1.0) << "control point " << k;
+    active += expect[k];
+    // Control points with u below 0.2 are more than two cells from the cut: all intact.
+    if (p.control_parameter(k).x() < 0.2) far_intact += control.flip_share[k] == 1.0;
+  }
+  EXPECT_GT(active, 0u);
+  EXPECT_LT(active, expect.size() / 2);
+  EXPECT_GT(far_intact, 0u);
+}
+
+TEST(AdaptiveTransfer, ElasticSheetWithoutCracksRunsItsControlPointsAsAffineFlip) {
+  Simulation sim(scene::build_model(R"({"name": "e", "gravity": [0, -9.81, 0], "grid": {"transfer": "adaptive"},
+    "shells": [{"name": "s", "patch": {"type": "flat", "size": [0.4, 0.2], "cells": [8, 4]},
+      "thickness": 0.001, "material": {"E": 1e5, "nu": 0.3, "density": 200}}]})", "e.json"));
+  for (int s = 0; s < 5; ++s) sim.step(0.5 * sim.stable_dt());
+  // Control points share 1; shear particles always 0 (their positions follow the control points).
+  const mpm::ParticleSet& control = sim.world().particle_sets()[sim.world().control_set(0)];
+  const mpm::ParticleSet& shear = sim.world().particle_sets()[sim.world().shear_set(0)];
+  for (size_t k = 0; k < control.count; ++k) EXPECT_EQ(control.flip_share[k], 1.0);
+  for (size_t c = 0; c < shear.count; ++c) EXPECT_EQ(shear.flip_share[c], 0.0);
+}
+
+TEST(AdaptiveTransfer, MixedSharesKeepLinearMomentumThroughPhantomContact) {
+  // The two sides of the cut get opposite x velocities plus a spin, so particles on both shares move, the
+  // phantom nodes separate the sides, and the momentum must stay that of the start (no forces act).
+  Simulation sim(scene::build_model(half_cut_sheet(kAdaptive), "cut.json"));
+  const shell::ShellPatch& p = sim.world().shell(0);
+  const auto x = sim.positions(0), v = sim.velocities(0), shear_v = sim.shear_velocities(0);
+  for (size_t k = 0; k < x.size(); ++k)
+    v[k] = Eigen::Vector3d(p.control_parameter(k).x() < 0.5 ? -0.3 : 0.4, 0.1, 0.05) +
+           Eigen::Vector3d(0, 0, 3.0).cross(x[k]);
+  for (size_t c = 0; c < p.shear.x.size(); ++c)
+    shear_v[c] = Eigen::Vector3d(p.shear_parameter(c).x() < 0.5 ? -0.3 : 0.4, 0.1, 0.05);
+  const Eigen::Vector3d before = sim.linear_momentum();
+  const double mass = 200 * 0.001 * 0.4 * 0.2;
+  for (int s = 0; s < 80; ++s) sim.step(0.5 * sim.stable_dt());
+  EXPECT_GT(before.norm(), 1e-4);
+  EXPECT_LE((sim.linear_momentum() - before).norm(), 1e-12 * mass);
+}
+
+TEST(AdaptiveTransfer, ShareKeysAreCheckedAndReachTheModel) {
+  const scene::Model m = scene::build_model(
+      half_cut_sheet(R"("grid": {"transfer": "adaptive", "flip_ratio": 0.995, "flip_ratio_active": 0.5},)"), "c.json");
+  EXPECT_EQ(m.grid.flip, 0.995);
+  EXPECT_EQ(m.grid.flip_active, 0.5);
+  const scene::Model pic = scene::build_model(half_cut_sheet(R"("grid": {"transfer": "pic"},)"), "c.json");
+  EXPECT_FALSE(pic.grid.adaptive);
+  EXPECT_EQ(pic.grid.flip, 0.0);
+  try {
+    scene::build_model(half_cut_sheet(R"("grid": {"transfer": "aflip", "flip_ratio_active": 0.5},)"), "c.json");
+    FAIL() << "accepted";
+  } catch (const scene::SceneError& e) {
+    EXPECT_EQ(e.json_path(), "/grid/flip_ratio_active");
+  }
+}
+
+}  // namespace
+}  // namespace shellfrac::sim
