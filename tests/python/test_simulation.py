@@ -165,7 +165,9 @@ def test_gil_is_released_while_stepping(tiny_drape):
 
     watcher = threading.Thread(target=watch)
     watcher.start()
-    sim.advance_to(0.06)
+    # Long enough (about 160 steps) that the watcher samples many times even when a step takes well under a
+    # millisecond: 16 steps (0.06 s) once finished before its first wake-up.
+    sim.advance_to(0.6)
     done.set()
     watcher.join()
     # The watcher ran during the advance and saw steps in progress.
