@@ -210,16 +210,8 @@ void SolidGrid::transfer_to_grid(const SolidView& s, double dt) {
   const detail::TransferGrid g = raw();
   const detail::ScatterKernel scatter = kernels_->scatter;
   // The coloured slab order of for_particles_coloured, a slab per kernel call.
-  const size_t slabs = slab_offsets_.empty() ? 0 : slab_offsets_.size() - 1;
-  for (size_t colour = 0; colour < 2; ++colour) {
-    const size_t count = (slabs + 1 - colour) / 2;
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t k = r.begin(); k != r.end(); ++k) {
-        const size_t slab = 2 * k + colour;
-        scatter(g, s, dt, slab_order_.data(), slab_offsets_[slab], slab_offsets_[slab + 1]);
-      }
-    });
-  }
+  for_slabs_coloured(
+      [&](size_t slab) { scatter(g, s, dt, slab_order_.data(), slab_offsets_[slab], slab_offsets_[slab + 1]); });
 }
 
 void SolidGrid::add_point_forces(const std::vector<GVec3>& x, const std::vector<GVec3>& force, const std::vector<int>& field, double dt) {

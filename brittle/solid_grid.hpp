@@ -106,6 +106,10 @@ class SolidGrid {
   // (the scatter order). Use for scatters of per-node quantities. Defined in brittle/solid_grid_impl.hpp.
   template <class Fn>
   void for_particles_coloured(Fn&& fn) const;
+  // The same order a slab at a time: fn(slab) with the slab's particles at
+  // slab_order_[slab_offsets_[slab], slab_offsets_[slab + 1]).
+  template <class Fn>
+  void for_slabs_coloured(Fn&& fn) const;
 
  private:
   // The crack normal of a node padded to four doubles (one vector in the kernels).

@@ -36,7 +36,6 @@ void TransferShares::attach(World& world, const scene::Model& model) {
 }
 
 void TransferShares::update(const World& world, double intact, double active) {
-  active_count_ = 0;
   for (size_t i = 0; i < world.num_shells(); ++i) {
     const shell::ShellPatch& patch = world.shell(i);
     const size_t layers = static_cast<size_t>(patch.num_layers());
@@ -55,25 +54,16 @@ void TransferShares::update(const World& world, double intact, double active) {
     }
     const std::vector<unsigned char>& control_near = patch.control_near_crack();
     std::vector<double>& control = control_[i];
-    std::fill(control.begin(), control.end(), intact);
-    for (size_t k = 0; k < control.size(); ++k)
-      if (k < control_near.size() && control_near[k]) control[k] = active;
+    for (size_t k = 0; k < control.size(); ++k) control[k] = control_near[k] || seam_held_[i][k] ? active : intact;
     const int support = patch.support_size();
     for (size_t c = 0; c < patch.num_cells(); ++c) {
       if (!cell_active_[c]) continue;
       const int* ids = patch.support(c);
       for (int j = 0; j < support; ++j) control[static_cast<size_t>(ids[j])] = active;
     }
-    for (size_t k = 0; k < control.size(); ++k)
-      if (seam_held_[i][k]) control[k] = active;
     std::fill(shear_[i].begin(), shear_[i].end(), active);
-    if (intact != active) active_count_ += static_cast<size_t>(std::count(control.begin(), control.end(), active));
-    active_count_ += shear_[i].size();
   }
-  for (std::vector<double>& s : solid_) {
-    std::fill(s.begin(), s.end(), active);
-    active_count_ += s.size();
-  }
+  for (std::vector<double>& s : solid_) std::fill(s.begin(), s.end(), active);
 }
 
 }  // namespace shellfrac::sim

@@ -26,17 +26,11 @@ class TransferShares {
   void attach(World& world, const scene::Model& model);
   // Rewrites every share from the current damage, plastic strain and crack state.
   void update(const World& world, double intact, double active);
-  // Share of control point k / shear particle c of shell i (after update()).
-  double control(size_t shell, size_t k) const { return control_[shell][k]; }
-  double shear(size_t shell, size_t c) const { return shear_[shell][c]; }
-  // Particles currently at the active share, over all shells (a diagnostic for summaries and tests).
-  size_t num_active() const { return active_count_; }
 
  private:
   std::vector<std::vector<double>> control_, shear_, solid_;
   std::vector<std::vector<unsigned char>> seam_held_;  // per shell and control point: set by a seam
   std::vector<unsigned char> cell_active_;  // scratch, per cell of the shell being updated
-  size_t active_count_ = 0;
 };
 
 }  // namespace shellfrac::sim
