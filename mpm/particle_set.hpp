@@ -32,6 +32,11 @@ struct ParticleSet {
   // When the shares of the particles differ, g2p adds to each particle (1 - r_p) times the weighted mean
   // residual so that linear momentum stays exactly that of PIC (mpm/sparse_grid.cpp).
   const double* flip_share = nullptr;
+  // The FLIP part r_p delta_p of the new velocity (the share of the particle's own velocity that the grid
+  // did not carry), written in g2p when non-null; zero for PIC/APIC particles. The caller advects with
+  // v_p minus it, i.e. with the grid's velocity (Fei et al. 2021): moved by their own velocity, FLIP
+  // particles let the velocity modes the grid cannot see displace them, and those modes grow.
+  Vec3* flip_part = nullptr;
 };
 
 }  // namespace shellfrac::mpm

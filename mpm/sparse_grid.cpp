@@ -521,7 +521,9 @@ void SparseGrid::transfer_to_particles(const std::vector<ParticleSet>& sets) con
         sum.weight += s.mass[p] * (1 - share);
       }
       s.velocity[p] = v + share * residual;
+      if (s.flip_part) s.flip_part[p] = share * residual;
     } else {
+      if (s.flip_part) s.flip_part[p].setZero();
       s.velocity[p] = v;
     }
     if (affine) {

@@ -140,6 +140,9 @@ void PinSystem::hold_velocities(World& world, double dt, double t) {
       const Eigen::Vector3d removed = h.projector * (patch.v[h.point] - target);
       add_reaction(h, -world.transfer_mass(h.shell)[h.point] * removed / dt);
       patch.v[h.point] -= removed;
+      // A held component moves with the pin, none of it is FLIP part (World::flip_part: advection).
+      std::vector<Eigen::Vector3d>& flip = world.flip_part(h.shell);
+      if (!flip.empty()) flip[h.point] -= h.projector * flip[h.point];
     }
   };
   for (int sweep = 0; sweep < sweeps_ && !ties_.empty(); ++sweep) {
@@ -152,6 +155,12 @@ void PinSystem::hold_velocities(World& world, double dt, double t) {
       const Eigen::Vector3d mean = tie.in_plane * (ma * v[tie.a] + mb * v[tie.b]) / (ma + mb);
       v[tie.a] += mean - tie.in_plane * v[tie.a];
       v[tie.b] += mean - tie.in_plane * v[tie.b];
+      std::vector<Eigen::Vector3d>& flip = world.flip_part(tie.shell);  // tied points also advect alike
+      if (!flip.empty()) {
+        const Eigen::Vector3d flip_mean = tie.in_plane * (ma * flip[tie.a] + mb * flip[tie.b]) / (ma + mb);
+        flip[tie.a] += flip_mean - tie.in_plane * flip[tie.a];
+        flip[tie.b] += flip_mean - tie.in_plane * flip[tie.b];
+      }
     }
   }
   holds();

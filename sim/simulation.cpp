@@ -236,7 +236,13 @@ void Simulation::stage_g2p(double dt) {
   seams_.save_start_positions(world_);
   for (size_t i = 0; i < world_.num_shells(); ++i) {
     shell::ShellPatch& p = world_.shell(i);
-    tbb::parallel_for(size_t{0}, p.x.size(), [&](size_t k) { p.x[k] += dt * p.v[k]; });  // thesis Eq. 4.9
+    // thesis Eq. 4.9. Under a FLIP transfer without the FLIP part of the velocity (World::flip_part): the
+    // grid's velocity plus whatever pins and seams set after g2p.
+    const std::vector<Eigen::Vector3d>& flip_part = world_.flip_part(i);
+    if (flip_part.empty())
+      tbb::parallel_for(size_t{0}, p.x.size(), [&](size_t k) { p.x[k] += dt * p.v[k]; });
+    else
+      tbb::parallel_for(size_t{0}, p.x.size(), [&](size_t k) { p.x[k] += dt * (p.v[k] - flip_part[k]); });
     mpm::project_particles(p.x, p.v, colliders_, time_ + dt);
   }
   for (size_t k = 0; k < world_.num_solids(); ++k) {

@@ -55,6 +55,8 @@ World::World(const scene::Model& model) {
     initial_positions_.push_back(patches_.back().x);
     transfer_mass_.push_back(patches_.back().mass);
     affine_.emplace_back(model.grid.apic ? patches_.back().x.size() : 0, Eigen::Matrix3d::Zero());
+    const bool flip = model.grid.adaptive || model.grid.flip > 0;
+    flip_part_.emplace_back(flip ? patches_.back().x.size() : 0, Eigen::Vector3d::Zero());
     shell_names_.push_back(s.name);
   }
   solids_.reserve(model.solids.size());
@@ -90,6 +92,7 @@ World::World(const scene::Model& model) {
     control.mass = transfer_mass_[i].data();
     control.force = p.force.data();
     control.affine = affine_[i].empty() ? nullptr : affine_[i].data();
+    control.flip_part = flip_part_[i].empty() ? nullptr : flip_part_[i].data();
     control.flip = model.grid.flip;
     control_set_.push_back(sets_.size());
     layout_.push_back({SetKind::ControlPoints, i});

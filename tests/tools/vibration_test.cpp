@@ -71,13 +71,33 @@ TEST(Vibration, SimplySupportedPlateKeepsItsFirstMode) {
               v.period / v.reference_period, v.extrema, v.steps);
   EXPECT_EQ(v.extrema, 11);  // 5 whole periods measured
   EXPECT_LE(v.damping_ratio, 0.02);
-  EXPECT_NEAR(v.period, v.reference_period, 0.02 * v.reference_period);
+  // NOT the 2% at 16 cells: since control points advect with the grid's velocity rather than their
+  // FLIP velocity (the drape diverged otherwise, AdaptiveTransfer.DrapeOverABallGainsNoEnergy) the period is
+  // 3.15% long here (1.28% before). Regression check just above today's value; the 2% is asserted at 32 cells
+  // below, where the error is 0.40%.
+  EXPECT_NEAR(v.period, v.reference_period, 0.035 * v.reference_period);
   // PIC (the default, the thesis's transfer) beside it, over one reference period: the thin plate does not swing back.
   c.transfer.transfer = "pic";
   c.periods = 1;
   const VibrationResult pic = simply_supported_plate(c);
   std::printf("pic: zeta = %.5f (1 = over-damped, no oscillation), %d extrema\n", pic.damping_ratio, pic.extrema);
   EXPECT_GT(pic.damping_ratio, 0.5);  // far from the new transfer's: the reason for it
+}
+
+TEST(Vibration, SimplySupportedPlatePeriodConvergesAt32Cells) {
+  // The same plate at 32 x 32 cells over 2 periods: the period within the 2% of 2 pi / omega_11
+  // (measured 0.40% over 5 periods with the damping study tool, zeta 4.4e-4).
+  PlateVibrationCase c;
+  c.thickness = c.side / 100;
+  c.cells = 32;
+  c.periods = 2;
+  c.transfer.transfer = "adaptive";
+  const VibrationResult v = simply_supported_plate(c);
+  std::printf("adaptive, 32 cells: zeta = %.5f, period / reference = %.5f, %d extrema\n", v.damping_ratio,
+              v.period / v.reference_period, v.extrema);
+  EXPECT_GE(v.extrema, 4);
+  EXPECT_LE(v.damping_ratio, 0.02);
+  EXPECT_NEAR(v.period, v.reference_period, 0.02 * v.reference_period);
 }
 
 TEST(Vibration, FreeFloatingBentSheetKeepsItsEnergy) {
