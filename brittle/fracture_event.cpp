@@ -12,6 +12,7 @@ FractureEvent fracture_event(const BrittleSolid& solid, const TriMesh& domain, c
   require_closed_solid(domain, source);
   FractureEvent ev;
   ev.damaged_particles = solid.count_damaged(o.crack.grid.damage_threshold);
+  ev.breakage_order = o.breakage.enabled;
   FragmentOptions fo = o.fragments;
   fo.density = o.density > 0 ? o.density : solid.material.density;
   CrackExtractionOptions co = o.crack;
@@ -21,6 +22,17 @@ FractureEvent fracture_event(const BrittleSolid& solid, const TriMesh& domain, c
     const auto t0 = std::chrono::steady_clock::now();
     ev.crack = extract_crack(solid.rest, history, co);
     ev.regions = find_regions(ev.crack.diagram, ev.crack.crack_face);
+    if (o.breakage.enabled) {
+      // The sheets between intact parts, split further along the valleys of the damage time.
+      ev.crack = damage_time_crack(solid.rest, solid.damage, co, o.breakage.dynamics, {&ev.crack, &ev.regions});
+      ev.regions = find_regions(ev.crack.diagram, ev.crack.crack_face);
+    }
+    if (o.breakage.enabled && o.breakage.min_share > 0) {
+      const int before = ev.regions.count;
+      merge_small_regions(ev.crack.diagram, ev.regions, points_per_region(ev.crack.diagram, ev.regions, solid.rest),
+                          o.breakage.min_share);
+      ev.merged_regions = before - ev.regions.count;
+    }
     const auto t1 = std::chrono::steady_clock::now();
     try {
       ev.fragments = cut_fragments(domain, ev.crack.diagram, ev.regions, fo, source);
@@ -82,6 +94,7 @@ nlohmann::json fracture_summary(const FractureEvent& ev) {
                       {"seconds", {{"extract", ev.seconds_extract}, {"cut", ev.seconds_cut}}},
                       {"fragments", fragments_json(ev.fragments)}};
   if (!ev.gap_fragments.fragments.empty()) j["gap_fragments"] = fragments_json(ev.gap_fragments);
+  if (ev.breakage_order) j["breakage_order"] = {{"merged_regions", ev.merged_regions}};
   return j;
 }
 

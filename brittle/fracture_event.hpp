@@ -2,6 +2,7 @@
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 
+#include "brittle/breakage_order.hpp"
 #include "brittle/brittle_solid.hpp"
 #include "brittle/crack_surface.hpp"
 #include "brittle/fragments.hpp"
@@ -15,11 +16,14 @@ struct FractureEventOptions {
   double gap_width = 0;           // > 0: also cut the crack surface as a hairline gap (partial cracks)
   double clip_voxel = 0;          // voxel of the clipped crack surface; 0 = h_v / 4
   int attempts = 3;               // new site jitter seeds tried when a region boundary does not close
+  BreakageOrderOptions breakage;  // crack along the valleys of the damage time (off by default)
 };
 
 // Everything one fracture event produces (thesis sec. 3.3-3.5), in the object's material space.
 struct FractureEvent {
   size_t damaged_particles = 0;
+  bool breakage_order = false;    // the crack follows the damage time (BreakageOrderOptions)
+  int merged_regions = 0;         // regions under breakage.min_share merged into a neighbour
   CrackExtraction crack;
   Regions regions;
   TriMesh crack_surface;          // all crack faces (interior and extension), possibly non-manifold

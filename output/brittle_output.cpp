@@ -97,6 +97,8 @@ std::vector<BrittleSolidReport> BrittleWriter::reports(const sim::Simulation& si
       r.crack_faces = ev.crack_surface.triangles.size();
       r.crack_area = brittle::surface_area(ev.crack_surface_clipped);
       r.regions = static_cast<size_t>(ev.regions.count);
+      r.breakage_order = ev.breakage_order;
+      r.merged_regions = static_cast<size_t>(ev.merged_regions);
       for (const brittle::Fragment& f : set.fragments) {
         BrittleFragmentReport fr;
         fr.name = f.mesh.name;
@@ -143,6 +145,7 @@ Json brittle_json(const std::vector<BrittleSolidReport>& reports) {
       j["crack_faces"] = r.crack_faces;
       j["crack_area"] = r.crack_area;
       j["regions"] = r.regions;
+      if (r.breakage_order) j["breakage_order"] = {{"merged_regions", r.merged_regions}};
       Json pieces = Json::array();
       for (const BrittleFragmentReport& f : r.fragments)
         pieces.push_back({{"name", f.name},
@@ -190,6 +193,10 @@ std::vector<BrittleSolidReport> brittle_reports_from_json(const Json& list) {
         r.crack_faces = j.at("crack_faces").get<size_t>();
         r.crack_area = j.at("crack_area").get<double>();
         r.regions = j.at("regions").get<size_t>();
+        if (j.contains("breakage_order")) {
+          r.breakage_order = true;
+          r.merged_regions = j.at("breakage_order").at("merged_regions").get<size_t>();
+        }
         for (const Json& f : j.at("fragments")) {
           BrittleFragmentReport fr;
           fr.name = f.at("name").get<std::string>();

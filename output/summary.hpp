@@ -105,6 +105,10 @@ struct BrittleSolidReport {
   double input_volume = 0, total_volume = 0, volume_change = 0;
   size_t crack_faces = 0, regions = 0;
   double crack_area = 0;  // of the crack surface inside the object [m^2]
+  // Breakage ordered by damage time (docs/brittle.md): whether the crack followed it, and the regions
+  // merged for being under the minimum share.
+  bool breakage_order = false;
+  size_t merged_regions = 0;
   std::vector<BrittleFragmentReport> fragments;  // largest first, slivers included (flagged)
   std::vector<std::pair<std::string, double>> stage_seconds;
 };

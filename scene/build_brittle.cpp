@@ -270,6 +270,11 @@ model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t 
   out.event.fragments.cutter = level_set ? brittle::Cutter::LevelSet : brittle::Cutter::Exact;
   out.event.fragments.voxel = voxel;
   out.event.gap_width = fr.gap_width.value_or(0.0);
+  if (fr.breakage_order) {
+    out.event.breakage.enabled = true;
+    out.event.breakage.dynamics = fr.breakage_order->dynamics.value_or(0.1);
+    out.event.breakage.min_share = fr.breakage_order->min_share.value_or(0.01);
+  }
   // Counting rule (docs/brittle.md): a piece smaller than one MPM cell, dx^3, cannot have been resolved
   // by the simulation; it is a sliver, kept in the mesh but not counted as a fragment.
   out.sliver_volume = fr.sliver_volume.value_or(dx * dx * dx);

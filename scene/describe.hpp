@@ -244,6 +244,12 @@ void describe(V& v, FractureStop& s) {
 }
 
 template <class V>
+void describe(V& v, BreakageOrder& b) {
+  v.number("dynamics", b.dynamics, Range::closed(0.0, 1.0));
+  v.number("min_share", b.min_share, Range::closed(0.0, 0.5));
+}
+
+template <class V>
 void describe(V& v, SolidFracture& f) {
   v.number("grid_spacing", f.grid_spacing, Range::positive());
   v.number("crack_grid_spacing", f.crack_grid_spacing, Range::positive());
@@ -261,6 +267,7 @@ void describe(V& v, SolidFracture& f) {
   v.number("voxel", f.voxel, Range::positive());
   v.number("gap_width", f.gap_width, Range::non_negative());
   v.number("sliver_volume", f.sliver_volume, Range::non_negative());
+  v.object("breakage_order", f.breakage_order);
 }
 
 // The keys of a "mesh" solid or collider; a collider must give its voxel size.

@@ -151,6 +151,11 @@ struct FractureStop {
   Opt<int> max_steps;
 };
 
+// Breakage ordered by the damage time (docs/brittle.md, brittle/breakage_order.hpp).
+struct BreakageOrder {
+  Opt<double> dynamics, min_share;
+};
+
 // The brittle run of a solid (docs/brittle.md): a solid with this object is broken by the brittle solver.
 struct SolidFracture {
   Opt<double> grid_spacing, crack_grid_spacing, cfl;
@@ -159,6 +164,7 @@ struct SolidFracture {
   Opt<FractureStop> stop;
   Opt<std::string> cutter;  // "exact", "level_set"
   Opt<double> voxel, gap_width, sliver_volume;
+  Opt<BreakageOrder> breakage_order;
 };
 
 // A mesh file placed in the scene (solids and colliders of shape "mesh").

@@ -1,0 +1,254 @@
+#include "brittle/breakage_order.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <optional>
+#include <queue>
+#include <tuple>
+
+#include "brittle/crack_grid.hpp"
+#include "brittle/errors.hpp"
+#include "brittle/strength.hpp"
+#include "brittle/voronoi.hpp"
+
+namespace shellfrac::brittle {
+
+int count_pieces(const std::vector<size_t>& points_in_region, double min_share) {
+  const size_t total = std::accumulate(points_in_region.begin(), points_in_region.end(), size_t{0});
+  int n = 0;
+  for (size_t c : points_in_region) n += (c > 0 && static_cast<double>(c) >= min_share * static_cast<double>(total)) ? 1 : 0;
+  return n;
+}
+
+void merge_small_regions(const VoronoiDiagram& d, Regions& r, const std::vector<size_t>& points_in_region, double min_share) {
+  const size_t R = static_cast<size_t>(r.count);
+  if (R < 2) return;
+  // Shared face area between regions (all faces between different regions are crack faces).
+  std::vector<std::map<int, double>> shared(R);
+  for (const VoronoiFace& f : d.faces) {
+    if (f.wall()) continue;
+    const int a = r.cell_region[static_cast<size_t>(f.cell_a)], b = r.cell_region[static_cast<size_t>(f.cell_b)];
+    if (a == b) continue;
+    shared[static_cast<size_t>(a)][b] += f.area;
+    shared[static_cast<size_t>(b)][a] += f.area;
+  }
+  std::vector<size_t> count = points_in_region;
+  const double total = static_cast<double>(std::accumulate(count.begin(), count.end(), size_t{0}));
+  const double need = min_share * total;
+  std::vector<int> into(R);
+  std::iota(into.begin(), into.end(), 0);
+  std::vector<char> alive(R, 1);
+  for (;;) {
+    // The smallest live region under the share that has a neighbour.
+    int small = -1;
+    for (size_t i = 0; i < R; ++i)
+      if (alive[i] && static_cast<double>(count[i]) < need && !shared[i].empty() &&
+          (small < 0 || count[i] < count[static_cast<size_t>(small)]))
+        small = static_cast<int>(i);
+    if (small < 0) break;
+    const size_t s = static_cast<size_t>(small);
+    const auto best = std::max_element(shared[s].begin(), shared[s].end(),
+                                       [](const auto& x, const auto& y) { return x.second < y.second; });
+    const size_t t = static_cast<size_t>(best->first);
+    // Move s's adjacency into t; the face between them becomes interior.
+    for (const auto& [k, area] : shared[s]) {
+      const size_t u = static_cast<size_t>(k);
+      shared[u].erase(small);
+      if (u == t) continue;
+      shared[t][k] += area;
+      shared[u][static_cast<int>(t)] += area;
+    }
+    shared[s].clear();
+    count[t] += count[s];
+    alive[s] = 0;
+    into[s] = static_cast<int>(t);
+  }
+  auto root = [&](int i) {
+    while (into[static_cast<size_t>(i)] != i) i = into[static_cast<size_t>(i)];
+    return i;
+  };
+  std::vector<int> renumber(R, -1);
+  int next = 0;
+  for (int& c : r.cell_region) {
+    int& id = renumber[static_cast<size_t>(root(c))];
+    if (id < 0) id = next++;
+    c = id;
+  }
+  r.count = next;
+}
+
+CrackExtraction damage_time_crack(const std::vector<Vec3>& rest, const std::vector<ParticleDamage>& damage,
+                                  const CrackExtractionOptions& o, double dynamics, SheetRegions sheets) {
+  CrackExtraction out;
+  const double h = o.grid.spacing, threshold = o.grid.damage_threshold;
+  if (!(h > 0)) throw InputError("damage-time crack: grid spacing h_v must be > 0");
+  if (damage.size() != rest.size()) throw InputError("damage-time crack: one damage state per particle is needed");
+  // Damage times of the broken particles (a broken particle without a time, set directly, broke first).
+  double first = std::numeric_limits<double>::infinity(), last = -first;
+  for (const ParticleDamage& d : damage)
+    if (d.c_his >= threshold) {
+      first = std::min(first, std::max(d.tau, 0.0));
+      last = std::max(last, std::max(d.tau, 0.0));
+    }
+  if (rest.empty() || !std::isfinite(first)) return out;
+  // Intact particles count as breaking one span after the last broken one (a flat span of 0: 1).
+  const double span = last > first ? last - first : 1.0;
+  const double never = last + span;
+  Vec3 lo = rest.front(), hi = rest.front();
+  for (const Vec3& x : rest) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  const double bytes = CrackGrid::memory_estimate(lo, hi, h);
+  if (bytes > static_cast<double>(o.grid.memory_limit))
+    throw InputError("damage-time crack: h_v = " + std::to_string(h) + " m needs about " + std::to_string(bytes / 1e9) +
+                     " GB, more than the memory limit");
+  const double inv_h = 1.0 / h;
+  Eigen::Vector3i base_lo, dims;
+  for (int a = 0; a < 3; ++a) {
+    base_lo[a] = static_cast<int>(std::floor(lo[a] * inv_h - 0.5)) - 1;
+    dims[a] = static_cast<int>(std::floor(hi[a] * inv_h - 0.5)) + 3 - base_lo[a] + 1;
+  }
+  const size_t n = static_cast<size_t>(dims.x()) * dims.y() * dims.z();
+  auto index = [&](int i, int j, int k) -> long {
+    if (i < 0 || j < 0 || k < 0 || i >= dims.x() || j >= dims.y() || k >= dims.z()) return -1;
+    return i + static_cast<long>(dims.x()) * (j + static_cast<long>(dims.y()) * k);
+  };
+  auto coords = [&](size_t m) {
+    const long sx = dims.x(), sxy = static_cast<long>(dims.x()) * dims.y(), i = static_cast<long>(m);
+    return Eigen::Vector3i(static_cast<int>(i % sx), static_cast<int>((i / sx) % dims.y()), static_cast<int>(i / sxy));
+  };
+  // thesis Eq. 3.13: tau_i = sum_p w_ip tau_p / sum_p w_ip (intact particles with `never`).
+  std::vector<double> weight(n, 0.0), tau(n, 0.0);
+  for (size_t p = 0; p < rest.size(); ++p) {
+    int base[3];
+    double w[3][3];
+    for (int a = 0; a < 3; ++a) {
+      const double q = rest[p][a] * inv_h;
+      base[a] = static_cast<int>(std::floor(q - 0.5));
+      const double f = q - base[a];
+      w[a][0] = 0.5 * (1.5 - f) * (1.5 - f);
+      w[a][1] = 0.75 - (f - 1.0) * (f - 1.0);
+      w[a][2] = 0.5 * (f - 0.5) * (f - 0.5);
+    }
+    const ParticleDamage& d = damage[p];
+    const double tp = d.c_his >= threshold ? std::max(d.tau, 0.0) : never;
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) {
+          const double wt = w[0][i] * w[1][j] * w[2][k];
+          const long id = index(base[0] + i - base_lo.x(), base[1] + j - base_lo.y(), base[2] + k - base_lo.z());
+          if (!(wt > 0) || id < 0) continue;
+          weight[static_cast<size_t>(id)] += wt;
+          tau[static_cast<size_t>(id)] += wt * tp;
+        }
+  }
+  std::vector<size_t> active;
+  for (size_t m = 0; m < n; ++m)
+    if (weight[m] > 0) {
+      tau[m] /= weight[m];
+      active.push_back(m);
+    }
+  // Flooding from the latest-breaking nodes down (ties by node index: deterministic). Basins are
+  // union-find sets with the damage time of their peak.
+  std::sort(active.begin(), active.end(), [&](size_t a, size_t b) { return tau[a] != tau[b] ? tau[a] > tau[b] : a < b; });
+  std::vector<int> label(n, -1), parent;
+  std::vector<double> peak;
+  auto root = [&](int b) {
+    while (parent[static_cast<size_t>(b)] != b) b = parent[static_cast<size_t>(b)] = parent[static_cast<size_t>(parent[static_cast<size_t>(b)])];
+    return b;
+  };
+  const double depth = dynamics * (never - first);
+  std::vector<int> near;
+  for (size_t m : active) {
+    near.clear();
+    const Eigen::Vector3i c = coords(m);
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const long j = index(c.x() + dx, c.y() + dy, c.z() + dz);
+          if (j < 0 || label[static_cast<size_t>(j)] < 0) continue;
+          const int r = root(label[static_cast<size_t>(j)]);
+          if (std::find(near.begin(), near.end(), r) == near.end()) near.push_back(r);
+        }
+    if (near.empty()) {
+      label[m] = static_cast<int>(parent.size());
+      parent.push_back(label[m]);
+      peak.push_back(tau[m]);
+      continue;
+    }
+    // Highest peak first; a basin whose peak rises less than `depth` above this node joins it.
+    std::sort(near.begin(), near.end(), [&](int a, int b) { return peak[static_cast<size_t>(a)] > peak[static_cast<size_t>(b)]; });
+    for (size_t k = 1; k < near.size(); ++k)
+      if (peak[static_cast<size_t>(near[k])] - tau[m] < depth) parent[static_cast<size_t>(near[k])] = near[0];
+    label[m] = near[0];
+  }
+  // The basins' cores (nodes within half the depth of their basin's peak) keep their basin; the rest
+  // is flooded again from the cores, latest damage time first and first come first served among equal
+  // times, so that a valley of equal times is shared by the basins on either side instead of going to
+  // whichever was numbered first.
+  using Item = std::tuple<double, long, size_t, int>;  // tau, -order, node, basin
+  std::priority_queue<Item> queue;
+  long order = 0;
+  std::vector<int> basin_of(n, -1);
+  for (size_t m : active) {
+    const int b = root(label[m]);
+    if (tau[m] >= peak[static_cast<size_t>(b)] - 0.5 * depth) basin_of[m] = b;
+  }
+  auto push_neighbours = [&](size_t m) {
+    const Eigen::Vector3i c = coords(m);
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const long j = index(c.x() + dx, c.y() + dy, c.z() + dz);
+          if (j < 0 || !(weight[static_cast<size_t>(j)] > 0) || basin_of[static_cast<size_t>(j)] >= 0) continue;
+          queue.emplace(tau[static_cast<size_t>(j)], -(order++), static_cast<size_t>(j), basin_of[m]);
+        }
+  };
+  for (size_t m : active)
+    if (basin_of[m] >= 0) push_neighbours(m);
+  while (!queue.empty()) {
+    const size_t m = std::get<2>(queue.top());
+    const int b = std::get<3>(queue.top());
+    queue.pop();
+    if (basin_of[m] >= 0) continue;
+    basin_of[m] = b;
+    push_neighbours(m);
+  }
+  const bool with_sheets = sheets.crack && sheets.regions && !sheets.crack->diagram.sites.empty();
+  std::optional<SiteLocator> sheet_cell;
+  if (with_sheets) sheet_cell.emplace(sheets.crack->diagram);
+  std::map<std::pair<int, int>, int> piece_id;  // (basin, sheets' region) -> label
+  std::vector<Vec3> sites;
+  std::vector<int> basin;
+  std::sort(active.begin(), active.end());
+  for (size_t m : active) {
+    Vec3 jitter;
+    for (int a = 0; a < 3; ++a) jitter[a] = (2.0 * hashed_uniform(o.seed, 3 * m + static_cast<size_t>(a)) - 1.0) * o.site_jitter * h;
+    const Vec3 x = (coords(m) + base_lo).cast<double>() * h;
+    sites.push_back(x + jitter);
+    const int sheet = with_sheets ? sheets.regions->cell_region[static_cast<size_t>(sheet_cell->cell_of(x))] : 0;
+    basin.push_back(piece_id.try_emplace({basin_of[m], sheet}, static_cast<int>(piece_id.size())).first->second);
+    out.site_node.push_back(static_cast<long>(m));
+  }
+  Vec3 box_lo = base_lo.cast<double>() * h, box_hi = (base_lo + dims).cast<double>() * h;
+  if ((o.cover_lo.array() <= o.cover_hi.array()).all()) {
+    box_lo = box_lo.cwiseMin(o.cover_lo - Vec3::Constant(0.5 * h));
+    box_hi = box_hi.cwiseMax(o.cover_hi + Vec3::Constant(0.5 * h));
+  }
+  out.grid_lower = box_lo;
+  out.diagram = compute_voronoi(sites, box_lo, box_hi);
+  out.crack_face.assign(out.diagram.faces.size(), 0);
+  for (size_t f = 0; f < out.diagram.faces.size(); ++f) {
+    const VoronoiFace& face = out.diagram.faces[f];
+    if (face.wall() || basin[static_cast<size_t>(face.cell_a)] == basin[static_cast<size_t>(face.cell_b)]) continue;
+    out.crack_face[f] = 1;
+    ++out.interior_faces;
+  }
+  out.count_V = sites.size();
+  return out;
+}
+}  // namespace shellfrac::brittle
