@@ -28,7 +28,8 @@ int find_root(std::vector<int>& parent, int i) {
 }  // namespace
 
 PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<ParticleSet>& sets,
-                              const std::vector<PartitionRole>& roles, const Connectivity& connected) {
+                              const std::vector<PartitionRole>& roles, const Connectivity& connected,
+                              const GroupConnectivity& one_component) {
   PhantomLayout layout;
   // 1. Nodes reached by near-crack particles.
   std::vector<unsigned char> flagged(grid.num_grid_nodes(), 0);
@@ -93,9 +94,22 @@ PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<Particle
   std::vector<int32_t> components(slot_node.size(), 0);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, slot_node.size(), 8), [&](const tbb::blocked_range<size_t>& r) {
     std::vector<int> parent, label;
+    std::vector<uint32_t> node_sets, node_particles;
     for (size_t slot = r.begin(); slot != r.end(); ++slot) {
       const size_t begin = slot_count[slot];
       const int n = static_cast<int>(slot_count[slot + 1] - begin);
+      if (one_component) {  // component[] of the node's pairs is already 0
+        node_sets.resize(static_cast<size_t>(n));
+        node_particles.resize(static_cast<size_t>(n));
+        for (int a = 0; a < n; ++a) {
+          node_sets[static_cast<size_t>(a)] = pairs[begin + static_cast<size_t>(a)].set;
+          node_particles[static_cast<size_t>(a)] = pairs[begin + static_cast<size_t>(a)].particle;
+        }
+        if (one_component(node_sets.data(), node_particles.data(), n)) {
+          components[slot] = 1;
+          continue;
+        }
+      }
       parent.resize(static_cast<size_t>(n));
       std::iota(parent.begin(), parent.end(), 0);
       // Once every particle is in one component no test can change the partition: stop (most flagged

@@ -35,12 +35,18 @@ struct PartitionRole {
 // same side of every crack (same fragment locally), e.g. their parameter-space segment crosses no crack.
 using Connectivity = std::function<bool(uint32_t, uint32_t, uint32_t, uint32_t)>;
 
+// Optional shortcut for a whole node: one_component(sets, particles, n) true only when the n particles
+// (set and index arrays) are certainly pairwise connected, e.g. no crack meets the box around their
+// parameters; the node then needs no pair tests. False when unsure.
+using GroupConnectivity = std::function<bool(const uint32_t*, const uint32_t*, int)>;
+
 // Groups, at every node reached by a near-crack particle, all particles that reach the node into
 // connected components of `connected` (union-find); two or more components give the node one copy per
 // component. Deterministic: components are numbered by their first particle in (set, index) order.
 // Call after grid.rebuild(sets).
 PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<ParticleSet>& sets,
-                              const std::vector<PartitionRole>& roles, const Connectivity& connected);
+                              const std::vector<PartitionRole>& roles, const Connectivity& connected,
+                              const GroupConnectivity& one_component = {});
 
 struct ContactStats {
   size_t nodes = 0;           // split nodes visited

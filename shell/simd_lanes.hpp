@@ -1,20 +1,28 @@
 #pragma once
-// Four double lanes for the batched Type IV force kernel (shell/type4_batch_impl.hpp, which runs its
-// batches of eight points as two halves), written with the compiler's generic vector extension (GCC and
-// Clang) at the target's native width: one AVX2 register, two SSE2 or NEON registers, no intrinsics. Four,
-// not eight: with eight lanes on AVX2 the jet and the adjoint keep about 30 vector registers live, twice what
-// the machine has, and a third of the instructions were spills. (GCC lowers arithmetic on wider generic vectors well but
-// scalarises their comparisons, which the selects below depend on.) Everything here has internal linkage
-// and is force-inlined: this header is compiled once per instruction set (type4_batch_*.cpp), and a shared
-// inline symbol would let the linker hand AVX2 code to a machine without it.
+// Double lanes for the batched Type IV force kernel (shell/type4_batch_impl.hpp), written with the compiler's
+// generic vector extension (GCC and Clang) at the target's native width, no intrinsics: eight lanes in one
+// register with AVX-512 (a batch in one pass), otherwise four, one AVX2 register or two SSE2 or NEON ones (a
+// batch of eight as two groups). Four, not eight, below AVX-512: with eight lanes on AVX2 the jet and the
+// adjoint keep about 30 vector registers live, twice what the machine has, and a third of the instructions
+// were spills. (GCC lowers arithmetic on wider-than-native generic vectors well but scalarises their
+// comparisons, which the selects below depend on.) Everything here has internal linkage and is force-inlined:
+// this header is compiled once per instruction set (type4_batch_*.cpp), and a shared inline symbol would let
+// the linker hand AVX2 code to a machine without it.
 //
 // Include only inside an anonymous namespace of a kernel translation unit.
-
-constexpr int kLanes = 4;  // the kernel runs a batch of 8 points as two halves (type4_batch_impl.hpp)
+#if defined(__AVX512F__)
+// With AVX-512 a batch of 8 is one register and one pass: each dependency chain of the kernel (square roots,
+// divisions, the e^x and ln polynomials, the Newton loop), whose latency rather than the instruction count or
+// the memory traffic bounds the kernel, then serves 8 points instead of 4 (docs/performance.md, 2026-12-02).
+constexpr int kLanes = 8;
+constexpr int kNative = 8;
+#else
+constexpr int kLanes = 4;  // the kernel runs a batch of 8 points as two groups (type4_batch_impl.hpp)
 #if defined(__AVX__)
 constexpr int kNative = 4;
 #else
 constexpr int kNative = 2;
+#endif
 #endif
 typedef double Native __attribute__((vector_size(kNative * sizeof(double))));
 typedef long long NativeInt __attribute__((vector_size(kNative * sizeof(long long))));
@@ -208,7 +216,9 @@ SF_INLINE LaneMask operator>>(const LaneMask& x, int s) {
 template <class F>
 SF_INLINE Lanes gather(F f) {
   Lanes r;
-#if defined(__AVX__)
+#if defined(__AVX512F__)
+  r.a = Native{f(0), f(1), f(2), f(3), f(4), f(5), f(6), f(7)};
+#elif defined(__AVX__)
   r.a = Native{f(0), f(1), f(2), f(3)};
 #else
   r.a = Native{f(0), f(1)};
@@ -216,7 +226,7 @@ SF_INLINE Lanes gather(F f) {
 #endif
   return r;
 }
-static_assert(kLanes == 4, "gather lists four lanes");
+static_assert(kLanes == (kNative == 8 ? 8 : 4), "gather lists the lanes of one Lanes");
 
 // m ? a : b per lane.
 SF_INLINE Lanes select(const LaneMask& m, const Lanes& a, const Lanes& b) {

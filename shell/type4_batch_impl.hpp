@@ -21,7 +21,11 @@ SF_INLINE void lane_of(const Lanes3& v, int l, double out[3]) {
 struct LaneStress {
   Lanes t11, t12, t22;
   Lanes J;
+  Lanes lnJ;         // ln J (of J where ok, of 1 elsewhere)
   Lanes ln_lambda3;  // ln of the fibre stretch (its value is needed only by the damage criterion)
+  // lambda_3^2 to within 3e-8 relative without a further e^x, NaN where not known (a lane the Newton loop
+  // did not settle, a non-positive given stretch): enough for the damage pre-check (lane_surely_intact).
+  Lanes lambda3_sq;
   LaneMask ok;
 };
 
@@ -31,19 +35,23 @@ struct LaneStress {
 // = ln J + s for the pressure needs no further logarithm. Start: the root's expansion to second order in
 // x = ln J, s = a x + b x^2 with a = -lambda/(2 mu + lambda), b = -2 mu a^2/(2 mu + lambda). A lane stops
 // after the step that moved it by at most 1e-8: the Newton error is then below (h''/2h') 1e-16 <= 1e-16
-// (h''/2h' = 2 mu e^{2s}/(2 mu e^{2s} + lambda) <= 1), the scalar loop's 1e-15 relative. Returns s = ln l3.
-SF_INLINE Lanes lane_log_fibre_stretch(const Lanes& lnJ, double mu, double lambda) {
+// (h''/2h' = 2 mu e^{2s}/(2 mu e^{2s} + lambda) <= 1), the scalar loop's 1e-15 relative. Returns s = ln l3;
+// l3_sq: the last iteration's e^{2s}, which is l3^2 to within |2 step| <= 2e-8 for a lane that settled in it
+// and to the ulp for one that settled earlier (its s no longer moved); NaN for a lane that never settled.
+SF_INLINE Lanes lane_log_fibre_stretch(const Lanes& lnJ, double mu, double lambda, Lanes& l3_sq) {
   const double a = -lambda / (2.0 * mu + lambda), b = -2.0 * mu * a * a / (2.0 * mu + lambda);
   Lanes s = lnJ * (a + b * lnJ);
   LaneMask done = splat_int(0);
+  Lanes e2s;
   for (int it = 0; it < 30; ++it) {
-    const Lanes e2s = vexp(2.0 * s);
+    e2s = vexp(2.0 * s);
     const Lanes h = mu * (e2s - 1.0) + lambda * (s + lnJ);
     const Lanes step = h / ((2.0 * mu) * e2s + lambda);
     s = select(done, s, s - step);
     done = done | (vabs(step) <= 1e-8);
     if (all(done)) break;
   }
+  l3_sq = select(done, e2s, splat(__builtin_nan("")));
   return s;
 }
 
@@ -60,20 +68,23 @@ SF_INLINE LaneStress lane_in_plane_stress(const Lanes3& g1, const Lanes3& g2, co
   const Lanes inv = 1.0 / det;
   const Lanes i11 = c22 * inv, i12 = -c12 * inv, i22 = c11 * inv;  // deformed g^{ab}
   const Lanes lnJ = vlog(Jsafe);
+  s.lnJ = lnJ;
   Lanes ln_detF;  // ln(J lambda_3)
   switch (model) {
     case TransverseModel::Condensed: {
-      const Lanes ln_l3 = lane_log_fibre_stretch(lnJ, mu, lambda);
+      const Lanes ln_l3 = lane_log_fibre_stretch(lnJ, mu, lambda, s.lambda3_sq);
       s.ln_lambda3 = ln_l3;
       ln_detF = lnJ + ln_l3;
       break;
     }
     case TransverseModel::Given:
       s.ln_lambda3 = splat(0.0);  // unused: the damage criterion takes `given` itself
+      s.lambda3_sq = select(given > 0.0, given * given, splat(__builtin_nan("")));
       ln_detF = vlog(Jsafe * given);
       break;
     case TransverseModel::Rigid:
       s.ln_lambda3 = splat(0.0);
+      s.lambda3_sq = splat(1.0);
       ln_detF = lnJ;
       break;
   }
@@ -94,6 +105,24 @@ SF_INLINE LaneFrame lane_frame(const Lanes3& g1, const Lanes3& g2) {
   f.e12 = dot(g1, g2) / f.e11;
   f.e22 = vsqrt(vmax(splat(0.0), dot(g2, g2) - f.e12 * f.e12));
   return f;
+}
+
+// Lanes whose damage is certainly 0 this step, decided without the principal split: Rankine (thesis Eq.
+// 2.28) gives c = 0 when max(tau_33, largest principal of tau) / det F <= sigma_f, and the largest principal
+// value is at most the Frobenius norm of tau = tau^{ab} g_a (x) g_b, which is at most
+// B = |t11| c11 + |t12| (c11 + c22) + |t22| c22 (|g_1| |g_2| <= (c11 + c22)/2). With B and tau_33 below
+// sigma_f det F by a relative margin of 1e-6 (far above the round-off of either computation and the 3e-8 of
+// lambda3_sq), lane_damage would compute c = 0 and leave tau unchanged; compared squared, so det F needs no
+// e^x. A lane with stored damage under the monotone rule is never certain. NaN anywhere: not certain.
+SF_INLINE LaneMask lane_surely_intact(const LaneStress& st, const Lanes3& g1, const Lanes3& g2, Lanes normal,
+                                      Lanes sigma_f, Lanes c_old) {
+  const Lanes c11 = dot(g1, g1), c22 = dot(g2, g2);
+  const Lanes B = vabs(st.t11) * c11 + vabs(st.t12) * (c11 + c22) + vabs(st.t22) * c22;
+  const Lanes limit_sq = 0.999996 * (sigma_f * st.J) * (sigma_f * st.J) * st.lambda3_sq;  // (sigma_f det F)^2
+  const Lanes B_sq = B * B, normal_sq = normal * normal;
+  const double inf = __builtin_inf();  // an overflowed square would pass any limit
+  return st.ok & (sigma_f > 0.0) & (B_sq <= limit_sq) & (B_sq < inf) &
+         ((normal <= 0.0) | ((normal_sq <= limit_sq) & (normal_sq < inf))) & (c_old <= 0.0);
 }
 
 // Rankine damage (thesis Eq. 2.28) and tensile weakening (Eq. 2.29-2.31) on lanes; c_old: the stored damage
@@ -135,8 +164,10 @@ SF_INLINE void lane_damage(Lanes& t11, Lanes& t12, Lanes& t22, const Lanes3& g1,
   t22 = select(damaged, b22 * i22, t22);
 }
 
-// Lanes o .. o + kLanes - 1 of the batch.
-SF_INLINE void half_batch(const shellfrac::shell::Type4Data& d, const shellfrac::shell::Type4Batch& b,
+// Lanes o .. o + kLanes - 1 of the batch. Fracturing is a template parameter so that the damage law's
+// per-point values do not hold registers in the kernel of patches without it.
+template <bool Fracturing>
+SF_INLINE void lane_group(const shellfrac::shell::Type4Data& d, const shellfrac::shell::Type4Batch& b,
                           shellfrac::shell::Type4BatchResult& out, int o) {
   using namespace shellfrac::shell;
   const size_t* q = b.q + o;
@@ -190,6 +221,12 @@ SF_INLINE void half_batch(const shellfrac::shell::Type4Data& d, const shellfrac:
   const Lanes3 dn2 = inv_len * (dv2 - dot(nrm, dv2) * nrm);
 
   const Lanes given = gather([&](int i) { return r33[i]; });
+  // Per point material of the damage law (the same for every layer).
+  Lanes sigma_f = splat(0.0), H = splat(0.0);
+  if constexpr (Fracturing) {
+    sigma_f = gather([&](int i) { return d.failure_stress[q[i]]; });
+    H = gather([&](int i) { return d.brittleness[q[i]]; });
+  }
   Lanes3 K1 = zero3(), K2 = zero3(), C1 = zero3(), C2 = zero3();
   Lanes c_new[kType4MaxLayers];  // damage per layer, written back below
   for (size_t l = 0; l < L; ++l) {
@@ -239,14 +276,16 @@ SF_INLINE void half_batch(const shellfrac::shell::Type4Data& d, const shellfrac:
     failed = failed | (undecided & ~st.ok);
     runaway = runaway | (undecided & st.ok & (st.J > kRunawayAreaRatio));
     Lanes t11 = st.t11, t12 = st.t12, t22 = st.t22;
-    if (d.fracturing) {
-      const Lanes sigma_f = gather([&](int i) { return d.failure_stress[q[i]]; });
-      const Lanes H = gather([&](int i) { return d.brittleness[q[i]]; });
-      const Lanes c_old = gather([&](int i) { return d.damage[q[i] * L + l]; });
-      const Lanes Jsafe = select(st.ok, st.J, splat(1.0));
-      const Lanes normal = d.plane_strain ? d.lambda * vlog(Jsafe) : splat(0.0);
-      const Lanes lambda3 = d.model == TransverseModel::Given ? given : vexp(st.ln_lambda3);
-      lane_damage(t11, t12, t22, g1, g2, st.J * lambda3, normal, sigma_f, H, c_old, d.monotone, c_new[l]);
+    if constexpr (Fracturing) {
+      // The stored damage matters only to the monotone rule.
+      const Lanes c_old = d.monotone ? gather([&](int i) { return d.damage[q[i] * L + l]; }) : splat(0.0);
+      const Lanes normal = d.plane_strain ? d.lambda * st.lnJ : splat(0.0);
+      if (all(lane_surely_intact(st, g1, g2, normal, sigma_f, c_old))) {
+        c_new[l] = d.monotone ? vmax(splat(0.0), c_old) : splat(0.0);  // lane_damage's c; tau is unchanged
+      } else {
+        const Lanes lambda3 = d.model == TransverseModel::Given ? given : vexp(st.ln_lambda3);
+        lane_damage(t11, t12, t22, g1, g2, st.J * lambda3, normal, sigma_f, H, c_old, d.monotone, c_new[l]);
+      }
     }
     // dPsi/dg_alpha = V tau^{alpha beta} g_beta
     const Lanes3 k1 = V * (t11 * g1 + t12 * g2);
@@ -258,14 +297,27 @@ SF_INLINE void half_batch(const shellfrac::shell::Type4Data& d, const shellfrac:
   }
 
   // Per lane status; state write-back for the active lanes that did not fail.
-  for (int i = 0; i < kLanes; ++i) {
+  for (int i = 0; i < kLanes; ++i)
     status[i] = failed[i] ? kType4Degenerate : runaway[i] ? kType4Runaway : kType4Ok;
-    if (!((active >> i) & 1u) || status[i] != kType4Ok || !d.fracturing) continue;
-    for (size_t l = 0; l < L; ++l) {
-      const size_t ql = q[i] * L + l;
-      const double c = c_new[l][i];
-      d.damage[ql] = c;
-      if (c > d.damage_history[ql]) d.damage_history[ql] = c;
+  if constexpr (Fracturing) {
+    // Intact material (every lane and layer +0, all lanes written, points consecutive): the lanes' damage
+    // is one run of kLanes * L values to clear, and the history (never below +0) keeps its value.
+    LaneMask nonzero = failed | runaway;
+    for (size_t l = 0; l < L; ++l) nonzero = nonzero | as_mask(c_new[l]);
+    bool consecutive = (active & ((1u << kLanes) - 1)) == (1u << kLanes) - 1;
+    for (int i = 1; i < kLanes; ++i) consecutive = consecutive && q[i] == q[0] + static_cast<size_t>(i);
+    if (consecutive && !any(nonzero)) {
+      for (size_t k = 0; k < kLanes * L; ++k) d.damage[q[0] * L + k] = 0.0;
+    } else {
+      for (int i = 0; i < kLanes; ++i) {
+        if (!((active >> i) & 1u) || status[i] != kType4Ok) continue;
+        for (size_t l = 0; l < L; ++l) {
+          const size_t ql = q[i] * L + l;
+          const double c = c_new[l][i];
+          d.damage[ql] = c;
+          if (c > d.damage_history[ql]) d.damage_history[ql] = c;
+        }
+      }
     }
   }
 
@@ -302,5 +354,10 @@ SF_INLINE void half_batch(const shellfrac::shell::Type4Data& d, const shellfrac:
 SF_INLINE void batch_kernel(const shellfrac::shell::Type4Data& d, const shellfrac::shell::Type4Batch& b,
                             shellfrac::shell::Type4BatchResult& out) {
   static_assert(shellfrac::shell::kType4Lanes % kLanes == 0, "a batch is a whole number of lane groups");
-  for (int o = 0; o < shellfrac::shell::kType4Lanes; o += kLanes) half_batch(d, b, out, o);
+  for (int o = 0; o < shellfrac::shell::kType4Lanes; o += kLanes) {
+    if (d.fracturing)
+      lane_group<true>(d, b, out, o);
+    else
+      lane_group<false>(d, b, out, o);
+  }
 }

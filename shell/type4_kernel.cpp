@@ -88,8 +88,19 @@ bool cpu_has_avx2_fma() {
 #endif
 }
 
+bool cpu_has_avx512() {
+#if defined(SHELLFRAC_TYPE4_AVX2)
+  __builtin_cpu_init();
+  return cpu_has_avx2_fma() && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+         __builtin_cpu_supports("avx512dq");
+#else
+  return false;
+#endif
+}
+
 BatchFunction pick_batch_function() {
 #if defined(SHELLFRAC_TYPE4_AVX2)
+  if (cpu_has_avx512()) return detail::type4_force_batch_avx512;
   if (cpu_has_avx2_fma()) return detail::type4_force_batch_avx2;
 #endif
   return detail::type4_force_batch_generic;
@@ -101,6 +112,6 @@ const BatchFunction kBatchFunction = pick_batch_function();
 
 void type4_force_batch(const Type4Data& d, const Type4Batch& batch, Type4BatchResult& out) { kBatchFunction(d, batch, out); }
 
-const char* type4_batch_isa() { return cpu_has_avx2_fma() ? "avx2-fma" : "generic"; }
+const char* type4_batch_isa() { return cpu_has_avx512() ? "avx512" : cpu_has_avx2_fma() ? "avx2-fma" : "generic"; }
 
 }  // namespace shellfrac::shell

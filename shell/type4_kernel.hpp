@@ -7,7 +7,7 @@
 // Two implementations of the same per-point function:
 //  - type4_point_force: the scalar reference, one point at a time, any basis (NURBS or MLS);
 //  - type4_force_batch: eight NURBS points at once in structure-of-arrays lanes (shell/type4_batch_impl.hpp),
-//    compiled for AVX2+FMA and for the baseline instruction set and picked at run time.
+//    compiled for AVX-512, for AVX2+FMA and for the baseline instruction set and picked at run time.
 // Each lane's result depends only on that lane's inputs, so the batched results do not depend on how
 // points are grouped into batches or threads.
 #include <cstddef>
@@ -82,7 +82,7 @@ struct Type4BatchResult {
   int status[kType4Lanes];
 };
 void type4_force_batch(const Type4Data& d, const Type4Batch& batch, Type4BatchResult& out);
-// Which implementation type4_force_batch runs on this machine ("avx2-fma" or "generic").
+// Which implementation type4_force_batch runs on this machine ("avx512", "avx2-fma" or "generic").
 const char* type4_batch_isa();
 
 // Damage update and tensile weakening of one layer point's in-plane Kirchhoff stress (thesis sec. 4.4.1,
@@ -98,6 +98,7 @@ bool type4_return_map_lane(const Type4Data& d, const double g1[3], const double 
 void type4_force_batch_generic(const Type4Data& d, const Type4Batch& batch, Type4BatchResult& out);
 #if defined(SHELLFRAC_TYPE4_AVX2)
 void type4_force_batch_avx2(const Type4Data& d, const Type4Batch& batch, Type4BatchResult& out);
+void type4_force_batch_avx512(const Type4Data& d, const Type4Batch& batch, Type4BatchResult& out);
 #endif
 }  // namespace detail
 

@@ -308,7 +308,24 @@ void CrackSystem::partition(const World& world, mpm::SparseGrid& grid, const Sea
     cache.insert(key, result);
     return result;
   };
-  phantoms_ = mpm::partition_nodes(grid, sets, roles, connected);
+  // A node whose particles all lie on one shell, with no crack segment meeting the parameter box around
+  // them, is one component: every segment between two of them stays inside the box (most flagged nodes are
+  // beside the crack, not on it). Exact, as crosses() and touches() use the same exact predicates.
+  const mpm::GroupConnectivity one_component = [&](const uint32_t* set, const uint32_t* particle, int n) {
+    const SetInfo& first = info[set[0]];
+    if (!first.shell) return false;
+    for (int i = 1; i < n; ++i)
+      if (!info[set[i]].shell || info[set[i]].body != first.body) return false;
+    if (!first.cracked) return true;
+    crack2d::Box box{parameter(set[0], particle[0]), parameter(set[0], particle[0])};
+    for (int i = 1; i < n; ++i) {
+      const Eigen::Vector2d u = parameter(set[i], particle[i]);
+      box.lo = box.lo.cwiseMin(u);
+      box.hi = box.hi.cwiseMax(u);
+    }
+    return !world.shell(first.body).crack()->touches(box);
+  };
+  phantoms_ = mpm::partition_nodes(grid, sets, roles, connected, one_component);
   grid.set_phantom_copies(phantoms_);
   stats_.max_split_nodes = std::max(stats_.max_split_nodes, phantoms_.split_nodes);
 }

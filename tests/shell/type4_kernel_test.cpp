@@ -238,9 +238,10 @@ TEST(Type4Batch, EqualsScalarOnStretchedBentAndCompressedStates) {
       }
 }
 
-// The build's baseline instruction set (SSE2 on x86-64): the dispatcher picks AVX2 on this machine, so the
-// other compilation of the kernel is called directly, on a bent and damaged state.
-TEST(Type4Batch, BaselineInstructionSetBuildEqualsScalar) {
+// Every compilation of the kernel this processor can run, called directly (the dispatcher picks only one):
+// the build's baseline instruction set (SSE2 on x86-64, four lanes in two registers), AVX2 (four lanes) and
+// AVX-512 (eight lanes), on a bent and damaged state.
+TEST(Type4Batch, EveryInstructionSetBuildEqualsScalar) {
   PointSet p(nurbs::flat_patch(1.0, 1.0, 4, 4), 21);
   deform(p, kBent, 22);
   for (Vec3& x : p.x) x = Vec3(1.1 * x.x(), x.y(), x.z());
@@ -248,7 +249,15 @@ TEST(Type4Batch, BaselineInstructionSetBuildEqualsScalar) {
   Type4Data d = elastic();
   d.fracturing = true;
   const Outcome scalar = run_scalar(p, d);
-  EXPECT_LE(mismatch(run_batched(p, d, 0xffu, detail::type4_force_batch_generic), scalar), 1e-12);
+  std::vector<std::pair<const char*, BatchKernel>> kernels{{"generic", detail::type4_force_batch_generic}};
+#if defined(SHELLFRAC_TYPE4_AVX2)
+  __builtin_cpu_init();
+  const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  if (avx2) kernels.emplace_back("avx2", detail::type4_force_batch_avx2);
+  if (avx2 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq"))
+    kernels.emplace_back("avx512", detail::type4_force_batch_avx512);
+#endif
+  for (const auto& [name, kernel] : kernels) EXPECT_LE(mismatch(run_batched(p, d, 0xffu, kernel), scalar), 1e-12) << name;
   double damaged = 0;
   for (double c : scalar.damage) damaged = std::max(damaged, c);
   EXPECT_GT(damaged, 0.0);
@@ -290,6 +299,29 @@ TEST(Type4Batch, EqualsScalarOnDamagedStates) {
         EXPECT_GT(undamaged, 0);
         EXPECT_GT(softening, 0);
         EXPECT_GT(broken, 0);
+      }
+    }
+}
+
+// The kernel skips the principal split for lane groups whose stress bound is clearly below sigma_f
+// (lane_surely_intact): uniform failure stresses from far above the stretched sheet's stress to just below it
+// put whole groups on that path, on the full path, and mixed; the results must not tell them apart.
+TEST(Type4Batch, EqualsScalarAcrossTheDamageThreshold) {
+  for (double sigma_f : {4e5, 2e5, 1.3e5, 1.1e5, 1.0e5, 0.9e5})
+    for (bool monotone : {false, true}) {
+      PointSet p(nurbs::flat_patch(1.0, 1.0, 4, 4), 11);
+      deform(p, kStretched, 12);
+      for (double& s : p.sigma_f) s = sigma_f;
+      for (double& h : p.H) h = 0.8;
+      Type4Data d = elastic();
+      d.fracturing = true;
+      d.monotone = monotone;
+      const Outcome batched = run_batched(p, d), scalar = run_scalar(p, d);
+      EXPECT_LE(mismatch(batched, scalar), 1e-12) << sigma_f << " " << monotone;
+      for (size_t k = 0; k < scalar.damage.size(); ++k) {
+        if (scalar.damage[k] == 0) {
+          EXPECT_EQ(batched.damage[k], 0.0) << sigma_f;
+        }
       }
     }
 }
