@@ -5,6 +5,7 @@
 // A transfer may carry its FLIP share ("aflip:1"). Two single measurements print instead of charting:
 //   --free-sheet aflip:1@0.5#0.002%32   energy history of the free bent sheet (share, cfl, amplitude, cells)
 //   --tear aflip:0.99                   whether the sweeps' 16-cell mode-I tear completes with this transfer
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -110,9 +111,14 @@ int main(int argc, char** argv) {
      << "set logscale xy\nset grid\nset key outside right top\n"
      << "set xlabel 'cell size / thickness'\nset ylabel 'damping ratio zeta (1 = no oscillation; below 1e-5 drawn at 1e-5)'\n"
      << "set yrange [5e-6:2]\nplot ";
+  // One colour per transfer, one dash pattern per a/t: the series come transfer by transfer.
+  static const char* const kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e",
+                                         "#8c564b", "#e377c2", "#17becf", "#7f7f7f", "#000000"};
+  const size_t per_transfer = std::max<size_t>(ratios.size(), 1);
   for (size_t i = 0; i < series.size(); ++i)
-    gp << (i ? ", " : "") << "'-' using 1:2 with linespoints lw 2 pt " << 5 + static_cast<int>(i) << " title '"
-       << series[i].title << "'";
+    gp << (i ? ", " : "") << "'-' using 1:2 with linespoints lw 2 pt " << 5 + static_cast<int>(i % per_transfer) * 2
+       << " dt " << 1 + static_cast<int>(i % per_transfer) << " lc rgb '" << kColours[(i / per_transfer) % 10]
+       << "' title '" << series[i].title << "'";
   gp << "\n";
   for (const charts::Series& s : series) {
     for (size_t k = 0; k < s.x.size(); ++k) gp << s.x[k] << " " << s.y[k] << "\n";
