@@ -13,6 +13,7 @@
 #include "brittle/errors.hpp"
 #include "brittle/strength.hpp"
 #include "brittle/voronoi.hpp"
+#include "mpm/bspline_weights.hpp"
 
 namespace shellfrac::brittle {
 
@@ -124,22 +125,14 @@ CrackExtraction damage_time_crack(const std::vector<Vec3>& rest, const std::vect
   // thesis Eq. 3.13: tau_i = sum_p w_ip tau_p / sum_p w_ip (intact particles with `never`).
   std::vector<double> weight(n, 0.0), tau(n, 0.0);
   for (size_t p = 0; p < rest.size(); ++p) {
-    int base[3];
-    double w[3][3];
-    for (int a = 0; a < 3; ++a) {
-      const double q = rest[p][a] * inv_h;
-      base[a] = static_cast<int>(std::floor(q - 0.5));
-      const double f = q - base[a];
-      w[a][0] = 0.5 * (1.5 - f) * (1.5 - f);
-      w[a][1] = 0.75 - (f - 1.0) * (f - 1.0);
-      w[a][2] = 0.5 * (f - 0.5) * (f - 0.5);
-    }
+    const mpm::StencilWeights sw = mpm::stencil_weights(rest[p], inv_h);  // Eq. 2.10
+    const int base[3] = {sw.ax[0].base, sw.ax[1].base, sw.ax[2].base};
     const ParticleDamage& d = damage[p];
     const double tp = d.c_his >= threshold ? std::max(d.tau, 0.0) : never;
     for (int k = 0; k < 3; ++k)
       for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 3; ++i) {
-          const double wt = w[0][i] * w[1][j] * w[2][k];
+          const double wt = sw.weight(i, j, k);
           const long id = index(base[0] + i - base_lo.x(), base[1] + j - base_lo.y(), base[2] + k - base_lo.z());
           if (!(wt > 0) || id < 0) continue;
           weight[static_cast<size_t>(id)] += wt;

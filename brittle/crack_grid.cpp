@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "brittle/errors.hpp"
+#include "mpm/bspline_weights.hpp"
 
 namespace shellfrac::brittle {
 
@@ -51,21 +52,13 @@ CrackGrid::CrackGrid(const std::vector<Vec3>& rest, const std::vector<double>& c
 
   // Eq. 3.1: u_i = sum_p w_ip u_p for u = 1 (domain) and u = [c_his >= threshold] (damaged region).
   for (size_t p = 0; p < rest.size(); ++p) {
-    int base[3];
-    double w[3][3];
-    for (int a = 0; a < 3; ++a) {
-      const double q = rest[p][a] * inv_h;
-      base[a] = static_cast<int>(std::floor(q - 0.5));
-      const double f = q - base[a];
-      w[a][0] = 0.5 * (1.5 - f) * (1.5 - f);
-      w[a][1] = 0.75 - (f - 1.0) * (f - 1.0);
-      w[a][2] = 0.5 * (f - 0.5) * (f - 0.5);
-    }
+    const mpm::StencilWeights sw = mpm::stencil_weights(rest[p], inv_h);  // Eq. 2.10
+    const int base[3] = {sw.ax[0].base, sw.ax[1].base, sw.ax[2].base};
     const bool full = c_his[p] >= o.damage_threshold;
     for (int k = 0; k < 3; ++k)
       for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 3; ++i) {
-          const double wt = w[0][i] * w[1][j] * w[2][k];
+          const double wt = sw.weight(i, j, k);
           if (!(wt > 0)) continue;
           const size_t idx = static_cast<size_t>(index(base[0] + i - lo_.x(), base[1] + j - lo_.y(), base[2] + k - lo_.z()));
           weight[idx] += wt;
