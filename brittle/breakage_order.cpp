@@ -154,19 +154,25 @@ CrackExtraction damage_time_crack(const std::vector<Vec3>& rest, const std::vect
     while (parent[static_cast<size_t>(b)] != b) b = parent[static_cast<size_t>(b)] = parent[static_cast<size_t>(parent[static_cast<size_t>(b)])];
     return b;
   };
-  const double depth = dynamics * (never - first);
-  std::vector<int> near;
-  for (size_t m : active) {
-    near.clear();
+  // f(j) for the grid nodes j among the 26 neighbours of node m (and m itself) that lie on the grid.
+  auto for_neighbours = [&](size_t m, auto&& f) {
     const Eigen::Vector3i c = coords(m);
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
           const long j = index(c.x() + dx, c.y() + dy, c.z() + dz);
-          if (j < 0 || label[static_cast<size_t>(j)] < 0) continue;
-          const int r = root(label[static_cast<size_t>(j)]);
-          if (std::find(near.begin(), near.end(), r) == near.end()) near.push_back(r);
+          if (j >= 0) f(static_cast<size_t>(j));
         }
+  };
+  const double depth = dynamics * (never - first);
+  std::vector<int> near;
+  for (size_t m : active) {
+    near.clear();
+    for_neighbours(m, [&](size_t j) {
+      if (label[j] < 0) return;
+      const int r = root(label[j]);
+      if (std::find(near.begin(), near.end(), r) == near.end()) near.push_back(r);
+    });
     if (near.empty()) {
       label[m] = static_cast<int>(parent.size());
       parent.push_back(label[m]);
@@ -192,14 +198,9 @@ CrackExtraction damage_time_crack(const std::vector<Vec3>& rest, const std::vect
     if (tau[m] >= peak[static_cast<size_t>(b)] - 0.5 * depth) basin_of[m] = b;
   }
   auto push_neighbours = [&](size_t m) {
-    const Eigen::Vector3i c = coords(m);
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const long j = index(c.x() + dx, c.y() + dy, c.z() + dz);
-          if (j < 0 || !(weight[static_cast<size_t>(j)] > 0) || basin_of[static_cast<size_t>(j)] >= 0) continue;
-          queue.emplace(tau[static_cast<size_t>(j)], -(order++), static_cast<size_t>(j), basin_of[m]);
-        }
+    for_neighbours(m, [&](size_t j) {
+      if (weight[j] > 0 && basin_of[j] < 0) queue.emplace(tau[j], -(order++), j, basin_of[m]);
+    });
   };
   for (size_t m : active)
     if (basin_of[m] >= 0) push_neighbours(m);
