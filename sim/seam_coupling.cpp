@@ -11,6 +11,20 @@
 
 namespace shellfrac::sim {
 
+namespace {
+
+// A control point whose velocity the seam sets or corrects after g2p keeps no APIC affine velocity
+// (thesis Eq. 2.23): the C_p that g2p gave it belongs to the velocity the grid gave it, not to the one
+// it now has. Carried into the next p2g, that stale C_p fed a growing mode on stretched multi-seam
+// sheets under "apic" and "adaptive" (an L of three patches diverged at 0.30 s; PIC has no C_p).
+// Dropping it changes no linear momentum: sum_i w_ip C_p (x_i - x_p) = 0 for B-spline weights.
+void drop_affine(World& world, size_t patch, size_t point) {
+  std::vector<Eigen::Matrix3d>& affine = world.affine(patch);
+  if (!affine.empty()) affine[point].setZero();
+}
+
+}  // namespace
+
 void SeamSystem::save_start_positions(const World& world) {
   for (const scene::model::InterfaceSpec& spec : model_.interfaces) {
     const auto f = static_cast<size_t>(spec.coupling.follower_patch), l = static_cast<size_t>(spec.coupling.leader_patch);
@@ -69,6 +83,7 @@ void SeamSystem::correct_near_seam(World& world, const mpm::SparseGrid& grid, si
     for (int s = 0; s < 27; ++s) dv += sw.weight(s % 3, (s / 3) % 3, s / 9) * node_scratch_[nodes[static_cast<size_t>(s)]];
     p.v[c] += dv;
     p.x[c] += dt * dv;
+    drop_affine(world, patch, c);
   }
   for (uint32_t node : touched) {
     node_scratch_[node].setZero();
@@ -174,6 +189,7 @@ void SeamSystem::project_rows(World& world, const mpm::SparseGrid& grid, size_t 
   for (size_t k = 0; k < lrows.size(); ++k) {
     leader.x[static_cast<size_t>(lrows[k])] = target[k];
     leader.v[static_cast<size_t>(lrows[k])] = target_v[k];
+    drop_affine(world, lp, static_cast<size_t>(lrows[k]));
   }
 }
 
@@ -204,6 +220,7 @@ void SeamSystem::couple(World& world, const mpm::SparseGrid& grid, double dt) {
       if (!released[k]) {
         follower.x[static_cast<size_t>(rows[k])] = target[k];
         follower.v[static_cast<size_t>(rows[k])] = target_v[k];
+        drop_affine(world, static_cast<size_t>(c.follower_patch), static_cast<size_t>(rows[k]));
       }
   }
   // Where seams meet at a patch corner, a row-1 (C0) point of one seam can be a row-2 (C1) point of

@@ -104,14 +104,15 @@ TEST(SeamExact, NonNestedSeamStaysClosedToRoundOffAfterACutCrossesIt) {
 // seams. Along the seam the right patch has 8 cells against the corner's 10, so it leads and the
 // corner follows; the top has 13 against the corner's 10, so the corner leads there: the corner
 // follows on one seam and leads on the other, and the two seams' rows meet at its corner (x, y) =
-// (0.5, 0.5), as in a garment.
-std::string l_scene() {
+// (0.5, 0.5), as in a garment. `transfer` is the grid's particle/grid transfer.
+std::string l_scene(const std::string& transfer) {
   auto shell = [](const char* name, const char* origin, int cells) {
     return std::string(R"({"name": ")") + name + R"(", "patch": {"type": "flat", "size": [0.5, 0.5], "cells": [)" +
            std::to_string(cells) + ", " + std::to_string(cells) + R"(], "origin": )" + origin + R"(},
       "thickness": 0.002, "material": {"E": 5e5, "nu": 0.3, "density": 500}})";
   };
-  return std::string(R"({"name": "l-corner", "gravity": [0, 0, -2], "damping": 1.0, "shells": [)") +
+  return std::string(R"({"name": "l-corner", "gravity": [0, 0, -2], "damping": 1.0, "grid": {"transfer": ")") +
+         transfer + R"("}, "shells": [)" +
          shell("corner", "[0, 0, 0]", 10) + ", " + shell("right", "[0.5, 0, 0]", 8) + ", " +
          shell("top", "[0, 0.5, 0]", 13) + R"(],
     "pins": [{"shell": "corner", "region": {"u": [0, 0.02], "v": [0, 0.8]}},
@@ -122,11 +123,17 @@ std::string l_scene() {
                    {"a": {"shell": "corner", "side": "v1"}, "b": {"shell": "top", "side": "v0"}}]})";
 }
 
-TEST(SeamExact, APatchThatFollowsOnOneSeamAndLeadsOnAnotherClosesExactly) {
+class SeamExactUnderTransfer : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(SeamExactUnderTransfer, APatchThatFollowsOnOneSeamAndLeadsOnAnotherClosesExactly) {
   // Refused before issue 12 ("also set by the seam at ..."). Now the seam that sets the corner's rows is
   // coupled first and the leader points it sets are held in the other seam's projection. (The corner's
   // pins stay off its seam rows: a pin there would make the default fall back to least squares.)
-  const scene::Model scene = scene::build_model(l_scene(), "l.json");
+  // Under "apic" and "adaptive" the rows the seams set used to keep the affine velocity g2p gave them
+  // (sim/seam_coupling.cpp, drop_affine): this run then diverged ("stretched to more than 1000 times its
+  // area") at 0.30 s under "adaptive" (at 0.36 s under "apic" with 100 frames/s); now at about 0.49 s and
+  // 0.52 s. The pins keep pulling, and past 0.5 s the sheet fails under every transfer (PIC at 0.66 s).
+  const scene::Model scene = scene::build_model(l_scene(GetParam()), "l.json");
   ASSERT_EQ(scene.interfaces.size(), 2u);
   EXPECT_EQ(scene.interfaces[0].coupling.follower_patch, 0);  // the corner follows the right patch
   EXPECT_EQ(scene.interfaces[1].coupling.leader_patch, 0);    // and leads the top
@@ -134,7 +141,7 @@ TEST(SeamExact, APatchThatFollowsOnOneSeamAndLeadsOnAnotherClosesExactly) {
   EXPECT_TRUE(scene.interfaces[1].coupling.exact);
   Simulation sim(scene);
   double worst = 0;
-  for (double t = 0.05; t <= 0.3 + 1e-9; t += 0.05) {
+  for (double t = 0.05; t <= 0.4 + 1e-9; t += 0.05) {
     sim.advance_to(t);
     worst = std::max(worst, worst_gap(scene, sim));
   }
@@ -147,6 +154,8 @@ TEST(SeamExact, APatchThatFollowsOnOneSeamAndLeadsOnAnotherClosesExactly) {
   // (before issue 12 the scene was refused; least squares gives 1e-4 m on the 10/13 seam).
   EXPECT_LE(worst, 1e-9 * size);
 }
+
+INSTANTIATE_TEST_SUITE_P(Transfers, SeamExactUnderTransfer, ::testing::Values("pic", "apic", "adaptive"));
 
 }  // namespace
 }  // namespace shellfrac::sim
