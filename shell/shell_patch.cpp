@@ -122,7 +122,7 @@ void ShellPatch::build_masses() {
     const int* sup = support(cell_of(q));
     for (int s = 0; s < support_size_; ++s)
       mass[static_cast<size_t>(sup[s])] +=
-          (1.0 - kShearParticleMassShare) * material_.density * vq *
+          (1.0 - material_.shear_mass_share) * material_.density * vq *
           basis_[(q * support_size_ + static_cast<size_t>(s)) * kBasisStride];
   }
 }
@@ -176,7 +176,7 @@ void ShellPatch::build_shear_particles() {
     for (size_t q = c * points_per_cell_; q < (c + 1) * points_per_cell_; ++q)
       for (size_t l = 0; l < L; ++l) V += volume_[q * L + l];
     shear.volume.push_back(V);
-    shear.mass.back() = kShearParticleMassShare * material_.density * V;
+    shear.mass.back() = material_.shear_mass_share * material_.density * V;
   }
 }
 

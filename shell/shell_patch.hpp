@@ -35,20 +35,22 @@ struct ShellMaterial {
   PlasticityParams plasticity;  // Type-IV von Mises plasticity (metal sheets)
   FractureParams fracture;      // Type-IV Rankine damage (thesis sec. 4.4.1)
   double brittleness = 0;       // H of thesis Eq. 2.28, from sigma_f, G_f, E and l_ch (set_brittleness)
+  double shear_mass_share = 0.5;  // share of each cell's mass on its Type-III particle, in (0, 1)
 };
 
 // Share of a cell's mass carried by its Type-III particle; the control points carry the rest. Type III
 // particles must carry mass (thesis sec. 4.3.2: Types I-III transfer mass and momentum): their stress
 // reaches grid nodes that no control point touches, and a massless node would drop that force and break
-// momentum conservation.
+// momentum conservation. The thesis gives no value; this is the default (ShellMaterial::shear_mass_share).
 inline constexpr double kShearParticleMassShare = 0.5;
+static_assert(kShearParticleMassShare == ShellMaterial{}.shear_mass_share);
 
 // Type-III particles: one per cell at the parameter location of the cell's middle control point
 // (thesis sec. 4.3.2). They carry the elastic director d_3 that the grid velocity advects, and resist
 // compression and (under friction) shear.
 struct ShearParticles {
   std::vector<Vec3> x, v;              // position (NURBS-interpolated, thesis Eq. 4.10); grid velocity
-  std::vector<double> mass;            // kShearParticleMassShare of the cell's mass
+  std::vector<double> mass;            // ShellMaterial::shear_mass_share of the cell's mass
   std::vector<Vec3> director;          // elastic d_3
   std::vector<Mat3> reference_inverse; // D^-1 with D = E^T [A_1 A_2 N] in the local frame E = [E_1 E_2 N]
   std::vector<Mat3> stress;            // grid stress term S_p = V dpsi/dd_3 (x) d_3

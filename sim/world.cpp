@@ -7,7 +7,7 @@ namespace shellfrac::sim {
 
 namespace {
 
-shell::ShellMaterial shell_material(const scene::model::Shell& s) {
+shell::ShellMaterial shell_material(const scene::model::Shell& s, const scene::model::GridSettings& grid) {
   shell::ShellMaterial m;
   m.mu = s.material.mu();
   m.lambda = s.material.lambda();
@@ -23,6 +23,7 @@ shell::ShellMaterial shell_material(const scene::model::Shell& s) {
   m.fracture.failure_stress = s.material.fracture.failure_stress;
   m.fracture.fracture_energy = s.material.fracture.fracture_energy;
   m.fracture.rule = s.material.fracture.rule;
+  if (grid.adaptive) m.shear_mass_share = scene::model::kAdaptiveShearMassShare;
   return m;
 }
 
@@ -33,7 +34,7 @@ World::World(const scene::Model& model) {
   for (size_t i = 0; i < model.shells.size(); ++i) {
     const scene::model::Shell& s = model.shells[i];
     try {
-      patches_.emplace_back(s.surface, shell_material(s), s.quadrature);
+      patches_.emplace_back(s.surface, shell_material(s, model.grid), s.quadrature);
     } catch (const std::invalid_argument& e) {  // e.g. a degenerate (collapsed) control net
       throw scene::SceneError(model.source, "/shells/" + std::to_string(i) + "/patch", e.what());
     }

@@ -71,11 +71,9 @@ TEST(Vibration, SimplySupportedPlateKeepsItsFirstMode) {
               v.period / v.reference_period, v.extrema, v.steps);
   EXPECT_EQ(v.extrema, 11);  // 5 whole periods measured
   EXPECT_LE(v.damping_ratio, 0.02);
-  // NOT the 2% at 16 cells: since control points advect with the grid's velocity rather than their
-  // FLIP velocity (the drape diverged otherwise, AdaptiveTransfer.DrapeOverABallGainsNoEnergy) the period is
-  // 3.15% long here (1.28% before). Regression check just above today's value; the 2% is asserted at 32 cells
-  // below, where the error is 0.40%.
-  EXPECT_NEAR(v.period, v.reference_period, 0.035 * v.reference_period);
+  // The 2%. Measured +1.60% with the adaptive transfer's shear mass share of 0.2
+  // (scene::model::kAdaptiveShearMassShare); with the default share of 0.5 it was +3.15%.
+  EXPECT_NEAR(v.period, v.reference_period, 0.02 * v.reference_period);
   // PIC (the default, the thesis's transfer) beside it, over one reference period: the thin plate does not swing back.
   c.transfer.transfer = "pic";
   c.periods = 1;
@@ -86,7 +84,7 @@ TEST(Vibration, SimplySupportedPlateKeepsItsFirstMode) {
 
 TEST(Vibration, SimplySupportedPlatePeriodConvergesAt32Cells) {
   // The same plate at 32 x 32 cells over 2 periods: the period within the 2% of 2 pi / omega_11
-  // (measured 0.40% over 5 periods with the damping study tool, zeta 4.4e-4).
+  // (measured +0.07%, zeta 5e-5).
   PlateVibrationCase c;
   c.thickness = c.side / 100;
   c.cells = 32;
