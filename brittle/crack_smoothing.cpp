@@ -190,6 +190,7 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
   for (size_t i = 0; i < check.size(); ++i)
     floor_of[i] = std::min(1e-9 * h * h * h, 0.25 * min_tetrahedron(d, centre_of, d.faces[static_cast<size_t>(check[i])], true));
   std::vector<Vec3> shift(nc, Vec3::Zero()), previous(nc), target(nc);
+  std::vector<int> halved(nc, 0);
   auto place = [&]() {
     for (const Stencil& s : stencils) {
       Vec3 u = Vec3::Zero();
@@ -219,6 +220,7 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
     }
     previous = shift;
     shift = target;
+    std::fill(halved.begin(), halved.end(), 0);
     // Put back the corners around every face that would fold a cell, until none does; the state before
     // the step was valid, so this ends.
     for (bool changed = true; changed;) {
@@ -233,7 +235,8 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
             if (ci < 0) continue;
             const size_t c = static_cast<size_t>(ci);
             if (shift[c] != previous[c]) {
-              shift[c] = previous[c];
+              // Half the step, twice; then none.
+              shift[c] = ++halved[c] > 2 ? previous[c] : Vec3(0.5 * (shift[c] + previous[c]));
               ++report.rejected_moves;
               changed = true;
             }
