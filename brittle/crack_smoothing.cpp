@@ -38,9 +38,9 @@ double min_tetrahedron(const VoronoiDiagram& d, const std::vector<Vec3>& centre_
 
 }  // namespace
 
-size_t folded_tetrahedra(const VoronoiDiagram& d) {
+size_t folded_tetrahedra(const VoronoiDiagram& d, const std::vector<Vec3>& reference) {
   size_t folded = 0;
-  for (const VoronoiFace& face : d.faces) folded += min_tetrahedron(d, d.sites, face, false) > 0 ? 0 : 1;
+  for (const VoronoiFace& face : d.faces) folded += min_tetrahedron(d, reference.empty() ? d.sites : reference, face, false) > 0 ? 0 : 1;
   return folded;
 }
 
@@ -151,12 +151,12 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
     std::array<int, 8> corner;
     std::array<double, 8> weight;
   };
-  std::vector<Stencil> stencils;
-  for (size_t v = 0; v < nv; ++v) {
-    const Vec3 q = d.vertices[v] / h - Vec3::Constant(0.5);
+  // The eight corners of the cube holding x with their trilinear weights; false if none of them moves.
+  auto make_stencil = [&](int id, const Vec3& x, Stencil& s) {
+    const Vec3 q = x / h - Vec3::Constant(0.5);
     const Eigen::Vector3i base(static_cast<int>(std::floor(q.x())), static_cast<int>(std::floor(q.y())), static_cast<int>(std::floor(q.z())));
     const Vec3 t = q - base.cast<double>();
-    Stencil s{static_cast<int>(v), {}, {}};
+    s.vertex = id;
     bool any = false;
     for (int k = 0; k < 8; ++k) {
       const Eigen::Vector3i off(k & 1, (k >> 1) & 1, (k >> 2) & 1);
@@ -165,30 +165,48 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
       s.weight[static_cast<size_t>(k)] = (off.x() ? t.x() : 1 - t.x()) * (off.y() ? t.y() : 1 - t.y()) * (off.z() ? t.z() : 1 - t.z());
       any = any || s.corner[static_cast<size_t>(k)] >= 0;
     }
+    return any;
+  };
+  std::vector<Stencil> stencils;
+  for (size_t v = 0; v < nv; ++v) {
+    Stencil s;
     const uint8_t w = walls[v];
     const int wall_count = (w & 1) + (w >> 1 & 1) + (w >> 2 & 1) + (w >> 3 & 1) + (w >> 4 & 1) + (w >> 5 & 1);
-    if (any && wall_count < 3) stencils.push_back(s);
+    if (make_stencil(static_cast<int>(v), d.vertices[v], s) && wall_count < 3) stencils.push_back(s);
   }
+  // The sites move with the same deformation as reference points of the fold test (the diagram's sites
+  // stay): a tetrahedron (site, face triangle) then folds only where the deformation itself does.
+  std::vector<Stencil> site_stencils;
+  for (size_t c = 0; c < d.num_cells(); ++c) {
+    Stencil s;
+    if (make_stencil(static_cast<int>(c), d.sites[c], s)) site_stencils.push_back(s);
+  }
+  std::vector<Vec3> reference = d.sites;
+  std::vector<int> site_stencil_of(d.num_cells(), -1);
+  for (size_t i = 0; i < site_stencils.size(); ++i) site_stencil_of[static_cast<size_t>(site_stencils[i].vertex)] = static_cast<int>(i);
   std::vector<int> stencil_of(nv, -1);
   for (size_t i = 0; i < stencils.size(); ++i) stencil_of[static_cast<size_t>(stencils[i].vertex)] = static_cast<int>(i);
   std::vector<int> check;  // faces around the vertices that can move
   {
     std::vector<char> in(d.faces.size(), 0);
+    auto add = [&](int f) {
+      if (!in[static_cast<size_t>(f)]) {
+        in[static_cast<size_t>(f)] = 1;
+        check.push_back(f);
+      }
+    };
     for (const Stencil& s : stencils)
-      for (int f : faces_of[static_cast<size_t>(s.vertex)])
-        if (!in[static_cast<size_t>(f)]) {
-          in[static_cast<size_t>(f)] = 1;
-          check.push_back(f);
-        }
+      for (int f : faces_of[static_cast<size_t>(s.vertex)]) add(f);
+    for (const Stencil& s : site_stencils)
+      for (int f : d.cell_faces[static_cast<size_t>(s.vertex)]) add(f);
   }
   const std::vector<Vec3> original = d.vertices;
   // A face fails when a tetrahedron falls below this (six times its volume): far above the round-off of
   // the determinant and far below the cells (h^3 / 8 and more) and most jitter faces (about 1e-3 h^3);
   // a face of the diagram already below it (a speck left by the welding) must keep a quarter of its own.
-  const std::vector<Vec3>& centre_of = d.sites;
   std::vector<double> floor_of(check.size());
   for (size_t i = 0; i < check.size(); ++i)
-    floor_of[i] = std::min(1e-9 * h * h * h, 0.25 * min_tetrahedron(d, centre_of, d.faces[static_cast<size_t>(check[i])], true));
+    floor_of[i] = std::min(1e-9 * h * h * h, 0.25 * min_tetrahedron(d, d.sites, d.faces[static_cast<size_t>(check[i])], true));
   std::vector<Vec3> shift(nc, Vec3::Zero()), previous(nc), target(nc);
   std::vector<int> halved(nc, 0);
   auto place = [&]() {
@@ -200,6 +218,12 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
       for (int a = 0; a < 3; ++a)
         if (w >> (2 * a) & 3u) u[a] = 0;  // stays in the wall's plane
       d.vertices[static_cast<size_t>(s.vertex)] = original[static_cast<size_t>(s.vertex)] + u;
+    }
+    for (const Stencil& s : site_stencils) {
+      Vec3 u = Vec3::Zero();
+      for (size_t k = 0; k < 8; ++k)
+        if (s.corner[k] >= 0) u += s.weight[k] * shift[static_cast<size_t>(s.corner[k])];
+      reference[static_cast<size_t>(s.vertex)] = d.sites[static_cast<size_t>(s.vertex)] + u;
     }
   };
   auto corner_position = [&](size_t c) { return Vec3((corner_at[c].cast<double>() + Vec3::Constant(0.5)) * h + shift[c]); };
@@ -228,10 +252,15 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
       place();
       for (size_t i = 0; i < check.size(); ++i) {
         const VoronoiFace& face = d.faces[static_cast<size_t>(check[i])];
-        if (min_tetrahedron(d, centre_of, face, true) > floor_of[i]) continue;
-        for (int v : face.vertices) {
-          if (stencil_of[static_cast<size_t>(v)] < 0) continue;
-          for (int ci : stencils[static_cast<size_t>(stencil_of[static_cast<size_t>(v)])].corner) {  // the corners that move it
+        if (min_tetrahedron(d, reference, face, true) > floor_of[i]) continue;
+        std::vector<const Stencil*> movers;  // what moves the face's vertices and its cells' reference points
+        for (int v : face.vertices)
+          if (stencil_of[static_cast<size_t>(v)] >= 0) movers.push_back(&stencils[static_cast<size_t>(stencil_of[static_cast<size_t>(v)])]);
+        for (int cell : {face.cell_a, face.cell_b})
+          if (cell >= 0 && site_stencil_of[static_cast<size_t>(cell)] >= 0)
+            movers.push_back(&site_stencils[static_cast<size_t>(site_stencil_of[static_cast<size_t>(cell)])]);
+        for (const Stencil* mover : movers) {
+          for (int ci : mover->corner) {
             if (ci < 0) continue;
             const size_t c = static_cast<size_t>(ci);
             if (shift[c] != previous[c]) {
@@ -285,6 +314,7 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
     }
     d.cell_volume[cell] = six_v / 6.0;
   }
+  report.reference = std::move(reference);
   return report;
 }
 

@@ -18,10 +18,11 @@ namespace shellfrac::brittle {
 //  - every vertex of the diagram then moves by the trilinear interpolation of its cube's corner
 //    displacements (a continuous deformation of space: tiny jitter faces move nearly rigidly, vertices
 //    away from the sheet stay), minus the components normal to the container walls it lies on;
-//  - a step is kept only where every tetrahedron (site, triangle of a face of its cell) stays positively
-//    oriented; the corners that move a face that would fold are put back. The cells then stay
-//    star-shaped around their sites and the tetrahedra tile the container once (a degree argument), so
-//    the regions still partition it exactly and their boundaries never fold or overlap.
+//  - a step is kept only where every tetrahedron (reference point, triangle of a face of its cell) stays
+//    positively oriented, the reference point being the cell's site moved by the same deformation; the
+//    corners that move a face that would fold are put back (after two halvings). The cells then stay
+//    star-shaped around their reference points and the tetrahedra tile the container once (a degree
+//    argument), so the regions still partition it exactly and their boundaries never fold or overlap.
 // Every vertex is one point of the conforming diagram, so both cells of a face see the same moved face.
 // Moved faces are marked bent and triangulated as stars around their centres (VoronoiFace::bent).
 struct CrackSmoothingOptions {
@@ -37,6 +38,7 @@ struct CrackSmoothingReport {
   size_t fixed_corners = 0;   // junction ends, corners outside the object
   size_t rejected_moves = 0;  // corner steps undone because a cell would have folded
   double max_displacement = 0;  // of a diagram vertex [m]
+  std::vector<Vec3> reference;  // per cell, its site moved by the deformation: each cell is star-shaped around it
 };
 
 // Moves the diagram's vertices so that the faces with smooth[f] != 0 (the sheets between the regions
@@ -45,7 +47,8 @@ struct CrackSmoothingReport {
 CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& diagram, const std::vector<char>& smooth, double h,
                                         const CrackSmoothingOptions& options = {});
 
-// Number of (cell, fan triangle) tetrahedra whose signed volume is not positive: 0 for a valid diagram.
-size_t folded_tetrahedra(const VoronoiDiagram& diagram);
+// Number of faces with a tetrahedron (reference point of a cell, triangle of the face) whose signed volume
+// is not positive: 0 when every cell is star-shaped around its reference point (empty: the sites).
+size_t folded_tetrahedra(const VoronoiDiagram& diagram, const std::vector<Vec3>& reference = {});
 
 }  // namespace shellfrac::brittle
