@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <set>
 #include <unordered_map>
 
 namespace shellfrac::brittle {
@@ -18,9 +19,9 @@ uint64_t edge_key(int a, int b) {
   return (static_cast<uint64_t>(static_cast<uint32_t>(lo)) << 32) | static_cast<uint32_t>(hi);
 }
 
-// Six times the smallest signed volume of the tetrahedra (reference point of the cell: its site, triangle)
-// the face forms with its cells, each triangle oriented outward from the cell: positive while neither cell folds over
-// the face. `star`: the triangles of the face bent (as the smoothing will mark it), else its own.
+// Six times the smallest signed volume of the tetrahedra (reference point of a cell, triangle) the face
+// forms with its cells, each triangle oriented outward from the cell: positive while neither cell folds
+// over the face. `star`: the triangles of the face bent (as the smoothing will mark it), else its own.
 double min_tetrahedron(const VoronoiDiagram& d, const std::vector<Vec3>& centre_of, const VoronoiFace& face, bool star) {
   double lowest = std::numeric_limits<double>::infinity();
   const Vec3 centre = face_centre(d.vertices, face);
@@ -53,7 +54,7 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
   // Lattice corners (k + 1/2) h, numbered as they are met.
   std::unordered_map<uint64_t, int> corner_id;
   std::vector<Eigen::Vector3i> corner_at;
-  auto corner_key = [](const Eigen::Vector3i& k) {
+  auto lattice_key = [](const Eigen::Vector3i& k) {  // of a corner or a node
     return (static_cast<uint64_t>(k.x() + (1 << 20)) << 42) | (static_cast<uint64_t>(k.y() + (1 << 20)) << 21) |
            static_cast<uint64_t>(k.z() + (1 << 20));
   };
@@ -62,7 +63,7 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
     return Eigen::Vector3i(static_cast<int>(std::lround(q.x())), static_cast<int>(std::lround(q.y())), static_cast<int>(std::lround(q.z())));
   };
   auto corner_of = [&](const Eigen::Vector3i& k) {
-    const auto [it, added] = corner_id.try_emplace(corner_key(k), static_cast<int>(corner_at.size()));
+    const auto [it, added] = corner_id.try_emplace(lattice_key(k), static_cast<int>(corner_at.size()));
     if (added) corner_at.push_back(k);
     return it->second;
   };
@@ -72,7 +73,7 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
     std::vector<int> labels;
   };
   std::unordered_map<uint64_t, CornerEdge> edges;
-  std::unordered_map<uint64_t, char> seen_square;
+  std::set<std::vector<int>> seen_square;
   for (size_t f = 0; f < d.faces.size() && f < smooth.size(); ++f) {
     const VoronoiFace& face = d.faces[f];
     if (!smooth[f] || face.wall()) continue;
@@ -85,9 +86,7 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
     std::vector<int> sorted = poly;
     std::sort(sorted.begin(), sorted.end());
     if (poly.size() < 3 || std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) continue;  // a sliver
-    uint64_t sq = 1469598103934665603ull;  // FNV-1a over the sorted corners
-    for (int c : sorted) sq = (sq ^ static_cast<uint64_t>(c)) * 1099511628211ull;
-    if (!seen_square.emplace(sq, 1).second) continue;
+    if (!seen_square.insert(sorted).second) continue;
     const int la = label[static_cast<size_t>(face.cell_a)], lb = label[static_cast<size_t>(face.cell_b)];
     for (size_t i = 0; i < poly.size(); ++i) {
       CornerEdge& e = edges[edge_key(poly[i], poly[(i + 1) % poly.size()])];
@@ -113,12 +112,12 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
   std::unordered_map<uint64_t, char> site_node;
   for (const Vec3& x : d.sites) {
     const Vec3 q = x / h;
-    site_node.emplace(corner_key(Eigen::Vector3i(static_cast<int>(std::lround(q.x())), static_cast<int>(std::lround(q.y())),
+    site_node.emplace(lattice_key(Eigen::Vector3i(static_cast<int>(std::lround(q.x())), static_cast<int>(std::lround(q.y())),
                                                  static_cast<int>(std::lround(q.z())))), 1);
   }
   auto inside = [&](const Eigen::Vector3i& k) {  // the nodes k .. k + 1 around corner (k + 1/2) h
     for (int i = 0; i < 8; ++i)
-      if (!site_node.count(corner_key(k + Eigen::Vector3i(i & 1, (i >> 1) & 1, (i >> 2) & 1)))) return false;
+      if (!site_node.count(lattice_key(k + Eigen::Vector3i(i & 1, (i >> 1) & 1, (i >> 2) & 1)))) return false;
     return true;
   };
   std::vector<std::vector<int>> along(nc);  // what a movable corner is averaged over (empty: fixed)
@@ -135,6 +134,7 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
     } else {
       along[c] = sheet[c];
     }
+    std::sort(along[c].begin(), along[c].end());  // a sum in the same order on every platform
     if (along[c].empty()) ++report.fixed_corners;
     else (junction[c].empty() && rim[c].empty() ? report.sheet_corners : report.curve_corners) += 1;
   }
@@ -160,7 +160,7 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
     bool any = false;
     for (int k = 0; k < 8; ++k) {
       const Eigen::Vector3i off(k & 1, (k >> 1) & 1, (k >> 2) & 1);
-      const auto it = corner_id.find(corner_key(base + off));
+      const auto it = corner_id.find(lattice_key(base + off));
       s.corner[static_cast<size_t>(k)] = it == corner_id.end() || along[static_cast<size_t>(it->second)].empty() ? -1 : it->second;
       s.weight[static_cast<size_t>(k)] = (off.x() ? t.x() : 1 - t.x()) * (off.y() ? t.y() : 1 - t.y()) * (off.z() ? t.z() : 1 - t.z());
       any = any || s.corner[static_cast<size_t>(k)] >= 0;
