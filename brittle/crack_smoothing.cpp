@@ -74,6 +74,10 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
   };
   std::unordered_map<uint64_t, CornerEdge> edges;
   std::set<std::vector<int>> seen_square;
+  struct Square {
+    std::vector<int> corners;  // oriented from the lower region label to the higher
+  };
+  std::vector<Square> squares;
   for (size_t f = 0; f < d.faces.size() && f < smooth.size(); ++f) {
     const VoronoiFace& face = d.faces[f];
     if (!smooth[f] || face.wall()) continue;
@@ -88,6 +92,7 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
     if (poly.size() < 3 || std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) continue;  // a sliver
     if (!seen_square.insert(sorted).second) continue;
     const int la = label[static_cast<size_t>(face.cell_a)], lb = label[static_cast<size_t>(face.cell_b)];
+    squares.push_back({la < lb ? poly : std::vector<int>(poly.rbegin(), poly.rend())});
     for (size_t i = 0; i < poly.size(); ++i) {
       CornerEdge& e = edges[edge_key(poly[i], poly[(i + 1) % poly.size()])];
       ++e.squares;
@@ -199,6 +204,7 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
       for (int f : faces_of[static_cast<size_t>(s.vertex)]) add(f);
     for (const Stencil& s : site_stencils)
       for (int f : d.cell_faces[static_cast<size_t>(s.vertex)]) add(f);
+    std::sort(check.begin(), check.end());
   }
   const std::vector<Vec3> original = d.vertices;
   // A face fails when a tetrahedron falls below this (six times its volume): far above the round-off of
@@ -270,6 +276,57 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
               changed = true;
             }
           }
+        }
+      }
+    }
+  }
+  // The vertices of a sheet face near a corner came from one cube corner of the staircase and still lie in
+  // that cube face's (axis-aligned) plane: moved together, they leave a step a tenth of a cell high at
+  // every corner. Each is projected onto the sheet's tangent plane at its corner (the normal from the
+  // moved squares around it); a projection that would fold a cell is undone.
+  {
+    std::vector<Vec3> normal(nc, Vec3::Zero());
+    for (const Square& q : squares) {
+      Vec3 n = Vec3::Zero();
+      for (size_t i = 0; i < q.corners.size(); ++i)
+        n += corner_position(static_cast<size_t>(q.corners[i])).cross(corner_position(static_cast<size_t>(q.corners[(i + 1) % q.corners.size()])));
+      for (int c : q.corners) normal[static_cast<size_t>(c)] += n;
+    }
+    std::vector<char> on_sheet(nv, 0);
+    for (size_t f = 0; f < d.faces.size() && f < smooth.size(); ++f)
+      if (smooth[f] && !d.faces[f].wall())
+        for (int v : d.faces[f].vertices) on_sheet[static_cast<size_t>(v)] = 1;
+    const std::vector<Vec3> before = d.vertices;
+    std::vector<int> projected;
+    for (const Stencil& st : stencils) {
+      const size_t v = static_cast<size_t>(st.vertex);
+      if (!on_sheet[v] || walls[v]) continue;
+      const auto it = corner_id.find(lattice_key(nearest_corner(original[v])));
+      if (it == corner_id.end()) continue;
+      const size_t c = static_cast<size_t>(it->second);
+      if (along[c].empty() || !junction[c].empty() || !rim[c].empty() || !(normal[c].norm() > 0)) continue;  // sheet corners only
+      const Vec3 n = normal[c].normalized();
+      d.vertices[v] -= (d.vertices[v] - corner_position(c)).dot(n) * n;
+      projected.push_back(static_cast<int>(v));
+    }
+    std::vector<char> is_projected(nv, 0);
+    for (int v : projected) is_projected[static_cast<size_t>(v)] = 1;
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (int vi : projected) {
+        if (!is_projected[static_cast<size_t>(vi)]) continue;
+        for (int f : faces_of[static_cast<size_t>(vi)]) {
+          const VoronoiFace& face = d.faces[static_cast<size_t>(f)];
+          const size_t i = static_cast<size_t>(std::lower_bound(check.begin(), check.end(), f) - check.begin());
+          const double floor = i < check.size() && check[i] == f ? floor_of[i] : 1e-9 * h * h * h;
+          if (min_tetrahedron(d, reference, face, true) > floor) continue;
+          for (int u : face.vertices)
+            if (is_projected[static_cast<size_t>(u)]) {
+              d.vertices[static_cast<size_t>(u)] = before[static_cast<size_t>(u)];
+              is_projected[static_cast<size_t>(u)] = 0;
+              ++report.rejected_moves;
+              changed = true;
+            }
         }
       }
     }
