@@ -18,7 +18,9 @@ namespace shellfrac::brittle {
 //  - every vertex of the diagram then moves by the trilinear interpolation of its cube's corner
 //    displacements (a continuous deformation of space: tiny jitter faces move nearly rigidly, vertices
 //    away from the sheet stay), minus the components normal to the container walls it lies on;
-//  - a step is kept only where every tetrahedron (reference point, triangle of a face of its cell) stays
+//  - the vertices of a sheet face near a corner (the site jitter's cluster there, which kept the plane of
+//    its cube face) are finally projected onto the sheet's tangent plane at that corner;
+//  - a step (and a projection) is kept only where every tetrahedron (reference point, triangle of a face of its cell) stays
 //    positively oriented, the reference point being the cell's site moved by the same deformation; the
 //    corners that move a face that would fold are put back (after two halvings). The cells then stay
 //    star-shaped around their reference points and the tetrahedra tile the container once (a degree
