@@ -1,6 +1,7 @@
 #pragma once
 #include <vector>
 
+#include "brittle/crack_smoothing.hpp"
 #include "brittle/crack_surface.hpp"
 #include "brittle/damage.hpp"
 #include "brittle/regions.hpp"
@@ -22,6 +23,9 @@ struct BreakageOrderOptions {
   bool enabled = false;
   double dynamics = 0.1;   // a basin's depth, as a fraction of the span of damage times, to stand alone
   double min_share = 0.01; // regions holding fewer particles than this share join a neighbour
+  // The crack faces come out as staircases of the lattice's cube-like cells; their vertices are smoothed
+  // (brittle/crack_smoothing.hpp) so that fragments get smooth crack faces. passes = 0: the staircases.
+  CrackSmoothingOptions smoothing;
 };
 
 // The crack as faces between watershed basins of the rasterised damage time; the diagram's sites are

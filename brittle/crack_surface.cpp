@@ -248,6 +248,15 @@ TriMesh crack_surface_mesh(const CrackExtraction& crack, std::vector<char>* kind
         remap[static_cast<size_t>(id)] = static_cast<int>(m.positions.size());
         m.positions.push_back(d.vertices[static_cast<size_t>(id)]);
       }
+    if (d.faces[f].bent) {  // smoothed: the star the fragments' faces use
+      const int centre = static_cast<int>(m.positions.size());
+      m.positions.push_back(face_centre(d.vertices, d.faces[f]));
+      for_face_triangles(d.faces[f], [&](int, int b, int c) {
+        m.triangles.emplace_back(centre, remap[static_cast<size_t>(b)], remap[static_cast<size_t>(c)]);
+        if (kinds) kinds->push_back(crack.crack_face[f]);
+      });
+      continue;
+    }
     for (size_t i = 1; i + 1 < v.size(); ++i) {
       m.triangles.emplace_back(remap[static_cast<size_t>(v[0])], remap[static_cast<size_t>(v[i])], remap[static_cast<size_t>(v[i + 1])]);
       if (kinds) kinds->push_back(crack.crack_face[f]);

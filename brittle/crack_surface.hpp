@@ -38,8 +38,8 @@ struct CrackExtraction {
 CrackExtraction extract_crack(const std::vector<Vec3>& rest, const std::vector<double>& damage_history,
                               const CrackExtractionOptions& options);
 
-// The crack faces as one triangle mesh (fans of the Voronoi polygons, vertices shared), possibly
-// non-manifold. With `kinds`, per triangle 1 (interior) or 2 (extension).
+// The crack faces as one triangle mesh (fans of the Voronoi polygons, stars around the centres of faces
+// bent by the crack smoothing; vertices shared), possibly non-manifold. With `kinds`, per triangle 1 (interior) or 2 (extension).
 TriMesh crack_surface_mesh(const CrackExtraction& crack, std::vector<char>* kinds = nullptr);
 
 }  // namespace shellfrac::brittle

@@ -33,6 +33,9 @@ FractureEvent fracture_event(const BrittleSolid& solid, const TriMesh& domain, c
                           o.breakage.min_share);
       ev.merged_regions = before - ev.regions.count;
     }
+    if (o.breakage.enabled && o.breakage.smoothing.passes > 0)
+      // Every basin boundary (merged ones too: they stay in the crack surface as partial cracks).
+      ev.smoothing = smooth_crack_faces(ev.crack.diagram, ev.crack.crack_face, co.grid.spacing, o.breakage.smoothing);
     const auto t1 = std::chrono::steady_clock::now();
     try {
       ev.fragments = cut_fragments(domain, ev.crack.diagram, ev.regions, fo, source);
@@ -94,7 +97,13 @@ nlohmann::json fracture_summary(const FractureEvent& ev) {
                       {"seconds", {{"extract", ev.seconds_extract}, {"cut", ev.seconds_cut}}},
                       {"fragments", fragments_json(ev.fragments)}};
   if (!ev.gap_fragments.fragments.empty()) j["gap_fragments"] = fragments_json(ev.gap_fragments);
-  if (ev.breakage_order) j["breakage_order"] = {{"merged_regions", ev.merged_regions}};
+  if (ev.breakage_order)
+    j["breakage_order"] = {{"merged_regions", ev.merged_regions},
+                           {"smoothing", {{"sheet_corners", ev.smoothing.sheet_corners},
+                                          {"curve_corners", ev.smoothing.curve_corners},
+                                          {"fixed_corners", ev.smoothing.fixed_corners},
+                                          {"rejected_moves", ev.smoothing.rejected_moves},
+                                          {"max_displacement", ev.smoothing.max_displacement}}}};
   return j;
 }
 

@@ -24,6 +24,7 @@ struct FractureEvent {
   size_t damaged_particles = 0;
   bool breakage_order = false;    // the crack follows the damage time (BreakageOrderOptions)
   int merged_regions = 0;         // regions under breakage.min_share merged into a neighbour
+  CrackSmoothingReport smoothing; // what smoothing the damage-time crack faces did
   CrackExtraction crack;
   Regions regions;
   TriMesh crack_surface;          // all crack faces (interior and extension), possibly non-manifold

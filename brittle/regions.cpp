@@ -46,11 +46,18 @@ TriMesh region_boundary(const VoronoiDiagram& d, const Regions& r, int region) {
     const bool in_a = r.cell_region[static_cast<size_t>(f.cell_a)] == region;
     const bool in_b = !f.wall() && r.cell_region[static_cast<size_t>(f.cell_b)] == region;
     if (in_a == in_b) continue;
-    std::vector<int> v = f.vertices;  // normal from a to b: outward for a
-    if (in_b) std::reverse(v.begin(), v.end());
-    // Canonical fan: start at the smallest vertex id, so both regions triangulate a face the same way.
-    std::rotate(v.begin(), std::min_element(v.begin(), v.end()), v.end());
-    for (size_t i = 1; i + 1 < v.size(); ++i) m.triangles.emplace_back(vid(v[0]), vid(v[i]), vid(v[i + 1]));
+    // Normals from a to b: outward for a, reversed for b. The triangulation is the face's own, so both
+    // regions share identical triangles (the centre of a bent face is computed from the same vertices).
+    int centre = -1;
+    if (f.bent) {
+      centre = static_cast<int>(m.positions.size());
+      m.positions.push_back(face_centre(d.vertices, f));
+    }
+    for_face_triangles(f, [&](int a, int b, int c) {
+      const int ia = a < 0 ? centre : vid(a), ib = vid(b), ic = vid(c);
+      if (in_b) m.triangles.emplace_back(ia, ic, ib);
+      else m.triangles.emplace_back(ia, ib, ic);
+    });
   }
   return m;
 }

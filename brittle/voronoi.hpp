@@ -13,6 +13,10 @@ struct VoronoiFace {
   std::vector<int> vertices;  // welded vertex ids
   double area = 0;
   Vec3 centroid = Vec3::Zero();
+  // Vertices moved off the face's plane (brittle/crack_smoothing.hpp): the face is then triangulated as a
+  // star around the mean of its vertices, since a fan of a bent polygon whose vertices lie nearly on a
+  // line folds over itself.
+  bool bent = false;
   bool wall() const { return cell_b < 0; }
 };
 
@@ -34,6 +38,30 @@ struct VoronoiDiagram {
     return f.cell_a == cell ? f.cell_b : f.cell_a;
   }
 };
+
+// The mean of a face's vertices (the centre of a bent face's star).
+inline Vec3 face_centre(const std::vector<Vec3>& vertices, const VoronoiFace& face) {
+  Vec3 c = Vec3::Zero();
+  for (int v : face.vertices) c += vertices[static_cast<size_t>(v)];
+  return c / static_cast<double>(face.vertices.size());
+}
+
+// The triangles of a face, oriented from cell_a to cell_b, as vertex ids (-1: the face's centre): a fan
+// from the smallest vertex id (the same for every user of the face, so neighbouring regions share
+// identical triangles), or for a bent face a star around its centre.
+template <class F>
+void for_face_triangles(const VoronoiFace& face, F&& f) {
+  const std::vector<int>& v = face.vertices;
+  const size_t n = v.size();
+  if (face.bent) {
+    for (size_t i = 0; i < n; ++i) f(-1, v[i], v[(i + 1) % n]);
+    return;
+  }
+  size_t m = 0;
+  for (size_t i = 1; i < n; ++i)
+    if (v[i] < v[m]) m = i;
+  for (size_t i = 1; i + 1 < n; ++i) f(v[m], v[(m + i) % n], v[(m + i + 1) % n]);
+}
 
 // Computes the diagram. Sites must be finite, inside the box and pairwise distinct (closer than
 // 1e-9 of the box diagonal counts as coincident). Throws NumericalError naming the site and its position

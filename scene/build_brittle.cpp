@@ -274,6 +274,7 @@ model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t 
     out.event.breakage.enabled = true;
     out.event.breakage.dynamics = fr.breakage_order->dynamics.value_or(0.1);
     out.event.breakage.min_share = fr.breakage_order->min_share.value_or(0.01);
+    out.event.breakage.smoothing.passes = fr.breakage_order->smoothing_steps.value_or(out.event.breakage.smoothing.passes);
   }
   // Counting rule (docs/brittle.md): a piece smaller than one MPM cell, dx^3, cannot have been resolved
   // by the simulation; it is a sliver, kept in the mesh but not counted as a fragment.

@@ -247,6 +247,7 @@ template <class V>
 void describe(V& v, BreakageOrder& b) {
   v.number("dynamics", b.dynamics, Range::closed(0.0, 1.0));
   v.number("min_share", b.min_share, Range::closed(0.0, 0.5));
+  v.integer("smoothing_steps", b.smoothing_steps, Range::closed(0, 1000));
 }
 
 template <class V>

@@ -154,6 +154,7 @@ struct FractureStop {
 // Breakage ordered by the damage time (docs/brittle.md, brittle/breakage_order.hpp).
 struct BreakageOrder {
   Opt<double> dynamics, min_share;
+  Opt<int> smoothing_steps;  // 0: the crack sheets stay staircases of the lattice's cells
 };
 
 // The brittle run of a solid (docs/brittle.md): a solid with this object is broken by the brittle solver.

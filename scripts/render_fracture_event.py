@@ -4,6 +4,7 @@ solid's centre by a fraction of its size so that the cracks show; the crack surf
 (or alone when the solid stayed in one piece).
 
     blender -b --python scripts/render_fracture_event.py -- OUT/brittle/slab_event_0_fragments.obj out.png [--explode 0.15]
+        [--size 800x600] [--direction 0.55,-1.0,0.8]
 """
 import argparse
 import colorsys
@@ -21,6 +22,7 @@ def arguments():
     p.add_argument("png")
     p.add_argument("--explode", type=float, default=0.15, help="fragments move this fraction of the solid's size")
     p.add_argument("--size", default="800x600")
+    p.add_argument("--direction", default="0.55,-1.0,0.8", help="from the scene's centre towards the camera, x,y,z")
     return p.parse_args(argv)
 
 
@@ -67,7 +69,7 @@ def main():
     cam_data = bpy.data.cameras.new("camera")
     cam = bpy.data.objects.new("camera", cam_data)
     bpy.context.scene.collection.objects.link(cam)
-    direction = Vector((0.55, -1.0, 0.8)).normalized()
+    direction = Vector(tuple(float(x) for x in a.direction.split(","))).normalized()
     cam.location = target + direction * extent * 1.6
     cam.rotation_euler = (target - cam.location).to_track_quat("-Z", "Y").to_euler()
     cam_data.lens = 40

@@ -62,6 +62,25 @@ TEST(BrittleSceneKeys, HertzImpactDurationFollowsEq311) {
   EXPECT_LT(duration, 1e-2);
 }
 
+// breakage_order.smoothing_steps reaches the fracture event: 10 relaxation steps by default, 0 keeps the
+// staircase sheets, a negative count is refused with its path.
+TEST(BrittleSceneKeys, BreakageOrderSmoothingStepsReachTheEvent) {
+  Scene s = load_scene(brittle_scene("notched-beam").string());
+  ASSERT_TRUE(s.solids[0].fracture.has_value());
+  s.solids[0].fracture->breakage_order = BreakageOrder{};
+  EXPECT_EQ(build(s).brittle_solids[0].event.breakage.smoothing.passes, 10);
+  EXPECT_TRUE(build(s).brittle_solids[0].event.breakage.enabled);
+  s.solids[0].fracture->breakage_order->smoothing_steps = 0;
+  EXPECT_EQ(build(s).brittle_solids[0].event.breakage.smoothing.passes, 0);
+  s.solids[0].fracture->breakage_order->smoothing_steps = -1;
+  try {
+    build(s);
+    ADD_FAILURE() << "a negative smoothing_steps was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.json_path(), "/solids/0/fracture/breakage_order/smoothing_steps");
+  }
+}
+
 TEST(BrittleSceneKeys, SceneBuiltInCodeIsRefusedLikeTheFile) {
   Scene s = load_scene(brittle_scene("notched-beam").string());
   s.solids[0].impacts.emplace_back();

@@ -1,0 +1,378 @@
+#include "brittle/crack_smoothing.hpp"
+
+#include "brittle/regions.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <set>
+#include <unordered_map>
+
+namespace shellfrac::brittle {
+
+namespace {
+
+uint64_t edge_key(int a, int b) {
+  const auto [lo, hi] = std::minmax(a, b);
+  return (static_cast<uint64_t>(static_cast<uint32_t>(lo)) << 32) | static_cast<uint32_t>(hi);
+}
+
+// Six times the smallest signed volume of the tetrahedra (reference point of a cell, triangle) the face
+// forms with its cells, each triangle oriented outward from the cell: positive while neither cell folds
+// over the face. `star`: the triangles of the face bent (as the smoothing will mark it), else its own.
+double min_tetrahedron(const VoronoiDiagram& d, const std::vector<Vec3>& centre_of, const VoronoiFace& face, bool star) {
+  double lowest = std::numeric_limits<double>::infinity();
+  const Vec3 centre = face_centre(d.vertices, face);
+  VoronoiFace shape;
+  shape.vertices = face.vertices;
+  shape.bent = star || face.bent;
+  for_face_triangles(shape, [&](int a, int b, int c) {
+    const Vec3& pa = a < 0 ? centre : d.vertices[static_cast<size_t>(a)];
+    const Vec3 n = (d.vertices[static_cast<size_t>(b)] - pa).cross(d.vertices[static_cast<size_t>(c)] - pa);
+    lowest = std::min(lowest, n.dot(pa - centre_of[static_cast<size_t>(face.cell_a)]));
+    if (!face.wall()) lowest = std::min(lowest, -n.dot(pa - centre_of[static_cast<size_t>(face.cell_b)]));
+  });
+  return lowest;
+}
+
+}  // namespace
+
+size_t folded_tetrahedra(const VoronoiDiagram& d, const std::vector<Vec3>& reference) {
+  size_t folded = 0;
+  for (const VoronoiFace& face : d.faces) folded += min_tetrahedron(d, reference.empty() ? d.sites : reference, face, false) > 0 ? 0 : 1;
+  return folded;
+}
+
+CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<char>& smooth, double h,
+                                        const CrackSmoothingOptions& o) {
+  CrackSmoothingReport report;
+  const size_t nv = d.vertices.size();
+  if (!(h > 0) || nv == 0) return report;
+  const std::vector<int> label = find_regions(d, smooth).cell_region;
+  // Lattice corners (k + 1/2) h, numbered as they are met.
+  std::unordered_map<uint64_t, int> corner_id;
+  std::vector<Eigen::Vector3i> corner_at;
+  auto lattice_key = [](const Eigen::Vector3i& k) {  // of a corner or a node
+    return (static_cast<uint64_t>(k.x() + (1 << 20)) << 42) | (static_cast<uint64_t>(k.y() + (1 << 20)) << 21) |
+           static_cast<uint64_t>(k.z() + (1 << 20));
+  };
+  auto nearest_corner = [&](const Vec3& x) {
+    const Vec3 q = x / h - Vec3::Constant(0.5);
+    return Eigen::Vector3i(static_cast<int>(std::lround(q.x())), static_cast<int>(std::lround(q.y())), static_cast<int>(std::lround(q.z())));
+  };
+  auto corner_of = [&](const Eigen::Vector3i& k) {
+    const auto [it, added] = corner_id.try_emplace(lattice_key(k), static_cast<int>(corner_at.size()));
+    if (added) corner_at.push_back(k);
+    return it->second;
+  };
+  // The staircase: each crack face as the polygon of its corners; squares met twice are counted once.
+  struct CornerEdge {
+    int squares = 0;
+    std::vector<int> labels;
+  };
+  std::unordered_map<uint64_t, CornerEdge> edges;
+  std::set<std::vector<int>> seen_square;
+  struct Square {
+    std::vector<int> corners;  // oriented from the lower region label to the higher
+  };
+  std::vector<Square> squares;
+  for (size_t f = 0; f < d.faces.size() && f < smooth.size(); ++f) {
+    const VoronoiFace& face = d.faces[f];
+    if (!smooth[f] || face.wall()) continue;
+    std::vector<int> poly;
+    for (int v : face.vertices) {
+      const int c = corner_of(nearest_corner(d.vertices[static_cast<size_t>(v)]));
+      if (poly.empty() || poly.back() != c) poly.push_back(c);
+    }
+    while (poly.size() > 1 && poly.front() == poly.back()) poly.pop_back();
+    std::vector<int> sorted = poly;
+    std::sort(sorted.begin(), sorted.end());
+    if (poly.size() < 3 || std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) continue;  // a sliver
+    if (!seen_square.insert(sorted).second) continue;
+    const int la = label[static_cast<size_t>(face.cell_a)], lb = label[static_cast<size_t>(face.cell_b)];
+    squares.push_back({la < lb ? poly : std::vector<int>(poly.rbegin(), poly.rend())});
+    for (size_t i = 0; i < poly.size(); ++i) {
+      CornerEdge& e = edges[edge_key(poly[i], poly[(i + 1) % poly.size()])];
+      ++e.squares;
+      for (int l : {la, lb})
+        if (std::find(e.labels.begin(), e.labels.end(), l) == e.labels.end()) e.labels.push_back(l);
+    }
+  }
+  if (edges.empty()) return report;
+  const size_t nc = corner_at.size();
+  // Corner neighbours along staircase edges, split by kind: junction (three or more regions around),
+  // rim (one square), sheet (the rest).
+  std::vector<std::vector<int>> sheet(nc), rim(nc), junction(nc);
+  for (const auto& [key, e] : edges) {
+    const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
+    auto& list = e.labels.size() >= 3 ? junction : e.squares == 1 ? rim : sheet;
+    list[static_cast<size_t>(a)].push_back(b);
+    list[static_cast<size_t>(b)].push_back(a);
+  }
+  // Corners whose cube of nodes is not all sites lie outside the rasterised object (its nodes reach 1.5
+  // cells past the particles): they stay, so that the large cells beyond the object, which a moved corner
+  // would tilt against their far sites, keep their shape.
+  std::unordered_map<uint64_t, char> site_node;
+  for (const Vec3& x : d.sites) {
+    const Vec3 q = x / h;
+    site_node.emplace(lattice_key(Eigen::Vector3i(static_cast<int>(std::lround(q.x())), static_cast<int>(std::lround(q.y())),
+                                                 static_cast<int>(std::lround(q.z())))), 1);
+  }
+  auto inside = [&](const Eigen::Vector3i& k) {  // the nodes k .. k + 1 around corner (k + 1/2) h
+    for (int i = 0; i < 8; ++i)
+      if (!site_node.count(lattice_key(k + Eigen::Vector3i(i & 1, (i >> 1) & 1, (i >> 2) & 1)))) return false;
+    return true;
+  };
+  std::vector<std::vector<int>> along(nc);  // what a movable corner is averaged over (empty: fixed)
+  for (size_t c = 0; c < nc; ++c) {
+    if (sheet[c].empty() && rim[c].empty() && junction[c].empty()) continue;  // a sliver's corner only
+    if (!inside(corner_at[c])) {
+      ++report.fixed_corners;
+      continue;
+    }
+    if (!junction[c].empty()) {
+      if (junction[c].size() == 2) along[c] = junction[c];
+    } else if (!rim[c].empty()) {
+      if (rim[c].size() == 2) along[c] = rim[c];
+    } else {
+      along[c] = sheet[c];
+    }
+    std::sort(along[c].begin(), along[c].end());  // a sum in the same order on every platform
+    if (along[c].empty()) ++report.fixed_corners;
+    else (junction[c].empty() && rim[c].empty() ? report.sheet_corners : report.curve_corners) += 1;
+  }
+  // Each vertex near the staircase: its cube's eight corners with their trilinear weights.
+  std::vector<uint8_t> walls(nv, 0);
+  std::vector<std::vector<int>> faces_of(nv);
+  for (size_t f = 0; f < d.faces.size(); ++f)
+    for (int v : d.faces[f].vertices) {
+      faces_of[static_cast<size_t>(v)].push_back(static_cast<int>(f));
+      if (d.faces[f].wall()) walls[static_cast<size_t>(v)] |= static_cast<uint8_t>(1u << (-d.faces[f].cell_b - 1));
+    }
+  struct Stencil {
+    int vertex;
+    std::array<int, 8> corner;
+    std::array<double, 8> weight;
+  };
+  // The eight corners of the cube holding x with their trilinear weights; false if none of them moves.
+  auto make_stencil = [&](int id, const Vec3& x, Stencil& s) {
+    const Vec3 q = x / h - Vec3::Constant(0.5);
+    const Eigen::Vector3i base(static_cast<int>(std::floor(q.x())), static_cast<int>(std::floor(q.y())), static_cast<int>(std::floor(q.z())));
+    const Vec3 t = q - base.cast<double>();
+    s.vertex = id;
+    bool any = false;
+    for (int k = 0; k < 8; ++k) {
+      const Eigen::Vector3i off(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+      const auto it = corner_id.find(lattice_key(base + off));
+      s.corner[static_cast<size_t>(k)] = it == corner_id.end() || along[static_cast<size_t>(it->second)].empty() ? -1 : it->second;
+      s.weight[static_cast<size_t>(k)] = (off.x() ? t.x() : 1 - t.x()) * (off.y() ? t.y() : 1 - t.y()) * (off.z() ? t.z() : 1 - t.z());
+      any = any || s.corner[static_cast<size_t>(k)] >= 0;
+    }
+    return any;
+  };
+  std::vector<Stencil> stencils;
+  for (size_t v = 0; v < nv; ++v) {
+    Stencil s;
+    const uint8_t w = walls[v];
+    const int wall_count = (w & 1) + (w >> 1 & 1) + (w >> 2 & 1) + (w >> 3 & 1) + (w >> 4 & 1) + (w >> 5 & 1);
+    if (make_stencil(static_cast<int>(v), d.vertices[v], s) && wall_count < 3) stencils.push_back(s);
+  }
+  // The sites move with the same deformation as reference points of the fold test (the diagram's sites
+  // stay): a tetrahedron (site, face triangle) then folds only where the deformation itself does.
+  std::vector<Stencil> site_stencils;
+  for (size_t c = 0; c < d.num_cells(); ++c) {
+    Stencil s;
+    if (make_stencil(static_cast<int>(c), d.sites[c], s)) site_stencils.push_back(s);
+  }
+  std::vector<Vec3> reference = d.sites;
+  std::vector<int> site_stencil_of(d.num_cells(), -1);
+  for (size_t i = 0; i < site_stencils.size(); ++i) site_stencil_of[static_cast<size_t>(site_stencils[i].vertex)] = static_cast<int>(i);
+  std::vector<int> stencil_of(nv, -1);
+  for (size_t i = 0; i < stencils.size(); ++i) stencil_of[static_cast<size_t>(stencils[i].vertex)] = static_cast<int>(i);
+  std::vector<int> check;  // faces around the vertices that can move
+  {
+    std::vector<char> in(d.faces.size(), 0);
+    auto add = [&](int f) {
+      if (!in[static_cast<size_t>(f)]) {
+        in[static_cast<size_t>(f)] = 1;
+        check.push_back(f);
+      }
+    };
+    for (const Stencil& s : stencils)
+      for (int f : faces_of[static_cast<size_t>(s.vertex)]) add(f);
+    for (const Stencil& s : site_stencils)
+      for (int f : d.cell_faces[static_cast<size_t>(s.vertex)]) add(f);
+    std::sort(check.begin(), check.end());
+  }
+  const std::vector<Vec3> original = d.vertices;
+  // A face fails when a tetrahedron falls below this (six times its volume): far above the round-off of
+  // the determinant and far below the cells (h^3 / 8 and more) and most jitter faces (about 1e-3 h^3);
+  // a face of the diagram already below it (a speck left by the welding) must keep a quarter of its own.
+  std::vector<double> floor_of(check.size());
+  for (size_t i = 0; i < check.size(); ++i)
+    floor_of[i] = std::min(1e-9 * h * h * h, 0.25 * min_tetrahedron(d, d.sites, d.faces[static_cast<size_t>(check[i])], true));
+  std::vector<Vec3> shift(nc, Vec3::Zero()), previous(nc), target(nc);
+  std::vector<int> halved(nc, 0);
+  auto place = [&]() {
+    for (const Stencil& s : stencils) {
+      Vec3 u = Vec3::Zero();
+      for (size_t k = 0; k < 8; ++k)
+        if (s.corner[k] >= 0) u += s.weight[k] * shift[static_cast<size_t>(s.corner[k])];
+      const uint8_t w = walls[static_cast<size_t>(s.vertex)];
+      for (int a = 0; a < 3; ++a)
+        if (w >> (2 * a) & 3u) u[a] = 0;  // stays in the wall's plane
+      d.vertices[static_cast<size_t>(s.vertex)] = original[static_cast<size_t>(s.vertex)] + u;
+    }
+    for (const Stencil& s : site_stencils) {
+      Vec3 u = Vec3::Zero();
+      for (size_t k = 0; k < 8; ++k)
+        if (s.corner[k] >= 0) u += s.weight[k] * shift[static_cast<size_t>(s.corner[k])];
+      reference[static_cast<size_t>(s.vertex)] = d.sites[static_cast<size_t>(s.vertex)] + u;
+    }
+  };
+  auto corner_position = [&](size_t c) { return Vec3((corner_at[c].cast<double>() + Vec3::Constant(0.5)) * h + shift[c]); };
+  const int steps_per_pass = o.mu < 0 ? 2 : 1;
+  for (int pass = 0; pass < steps_per_pass * o.passes; ++pass) {
+    const double step = pass % steps_per_pass == 0 ? o.lambda : o.mu;
+    // Umbrella operator with uniform weights, all corners from the same positions (Jacobi).
+    for (size_t c = 0; c < nc; ++c) {
+      target[c] = shift[c];
+      if (along[c].empty()) continue;
+      Vec3 mean = Vec3::Zero();
+      for (int u : along[c]) mean += corner_position(static_cast<size_t>(u));
+      mean /= static_cast<double>(along[c].size());
+      target[c] += step * (mean - corner_position(c));
+      // A corner stays inside its cube of lattice nodes (as in constrained surface nets): the sheet keeps
+      // to within half a cell of the staircase and neighbouring cubes cannot collapse.
+      target[c] = target[c].cwiseMax(Vec3::Constant(-o.reach * h)).cwiseMin(Vec3::Constant(o.reach * h));
+    }
+    previous = shift;
+    shift = target;
+    std::fill(halved.begin(), halved.end(), 0);
+    // Put back the corners around every face that would fold a cell, until none does; the state before
+    // the step was valid, so this ends.
+    for (bool changed = true; changed;) {
+      changed = false;
+      place();
+      for (size_t i = 0; i < check.size(); ++i) {
+        const VoronoiFace& face = d.faces[static_cast<size_t>(check[i])];
+        if (min_tetrahedron(d, reference, face, true) > floor_of[i]) continue;
+        std::vector<const Stencil*> movers;  // what moves the face's vertices and its cells' reference points
+        for (int v : face.vertices)
+          if (stencil_of[static_cast<size_t>(v)] >= 0) movers.push_back(&stencils[static_cast<size_t>(stencil_of[static_cast<size_t>(v)])]);
+        for (int cell : {face.cell_a, face.cell_b})
+          if (cell >= 0 && site_stencil_of[static_cast<size_t>(cell)] >= 0)
+            movers.push_back(&site_stencils[static_cast<size_t>(site_stencil_of[static_cast<size_t>(cell)])]);
+        for (const Stencil* mover : movers) {
+          for (int ci : mover->corner) {
+            if (ci < 0) continue;
+            const size_t c = static_cast<size_t>(ci);
+            if (shift[c] != previous[c]) {
+              // Half the step, twice; then none.
+              shift[c] = ++halved[c] > 2 ? previous[c] : Vec3(0.5 * (shift[c] + previous[c]));
+              ++report.rejected_moves;
+              changed = true;
+            }
+          }
+        }
+      }
+    }
+  }
+  // The vertices of a sheet face near a corner came from one cube corner of the staircase and still lie in
+  // that cube face's (axis-aligned) plane: moved together, they leave a step a tenth of a cell high at
+  // every corner. Each is projected onto the sheet's tangent plane at its corner (the normal from the
+  // moved squares around it); a projection that would fold a cell is undone.
+  {
+    std::vector<Vec3> normal(nc, Vec3::Zero());
+    for (const Square& q : squares) {
+      Vec3 n = Vec3::Zero();
+      for (size_t i = 0; i < q.corners.size(); ++i)
+        n += corner_position(static_cast<size_t>(q.corners[i])).cross(corner_position(static_cast<size_t>(q.corners[(i + 1) % q.corners.size()])));
+      for (int c : q.corners) normal[static_cast<size_t>(c)] += n;
+    }
+    std::vector<char> on_sheet(nv, 0);
+    for (size_t f = 0; f < d.faces.size() && f < smooth.size(); ++f)
+      if (smooth[f] && !d.faces[f].wall())
+        for (int v : d.faces[f].vertices) on_sheet[static_cast<size_t>(v)] = 1;
+    const std::vector<Vec3> before = d.vertices;
+    std::vector<int> projected;
+    for (const Stencil& st : stencils) {
+      const size_t v = static_cast<size_t>(st.vertex);
+      if (!on_sheet[v] || walls[v]) continue;
+      const auto it = corner_id.find(lattice_key(nearest_corner(original[v])));
+      if (it == corner_id.end()) continue;
+      const size_t c = static_cast<size_t>(it->second);
+      if (along[c].empty() || !junction[c].empty() || !rim[c].empty() || !(normal[c].norm() > 0)) continue;  // sheet corners only
+      const Vec3 n = normal[c].normalized();
+      d.vertices[v] -= (d.vertices[v] - corner_position(c)).dot(n) * n;
+      projected.push_back(static_cast<int>(v));
+    }
+    std::vector<char> is_projected(nv, 0);
+    for (int v : projected) is_projected[static_cast<size_t>(v)] = 1;
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (int vi : projected) {
+        if (!is_projected[static_cast<size_t>(vi)]) continue;
+        for (int f : faces_of[static_cast<size_t>(vi)]) {
+          const VoronoiFace& face = d.faces[static_cast<size_t>(f)];
+          const size_t i = static_cast<size_t>(std::lower_bound(check.begin(), check.end(), f) - check.begin());
+          const double floor = i < check.size() && check[i] == f ? floor_of[i] : 1e-9 * h * h * h;
+          if (min_tetrahedron(d, reference, face, true) > floor) continue;
+          for (int u : face.vertices)
+            if (is_projected[static_cast<size_t>(u)]) {
+              d.vertices[static_cast<size_t>(u)] = before[static_cast<size_t>(u)];
+              is_projected[static_cast<size_t>(u)] = 0;
+              ++report.rejected_moves;
+              changed = true;
+            }
+        }
+      }
+    }
+  }
+  // Areas and centroids of the faces that moved (fan areas: the faces need not be planar any more), and
+  // the volumes of their cells.
+  std::vector<char> cell_touched(d.num_cells(), 0);
+  for (const Stencil& s : stencils) {
+    const size_t v = static_cast<size_t>(s.vertex);
+    report.max_displacement = std::max(report.max_displacement, (d.vertices[v] - original[v]).norm());
+    if (d.vertices[v] == original[v]) continue;
+    for (int f : faces_of[v]) {
+      VoronoiFace& face = d.faces[static_cast<size_t>(f)];
+      cell_touched[static_cast<size_t>(face.cell_a)] = 1;
+      if (!face.wall()) cell_touched[static_cast<size_t>(face.cell_b)] = 1;
+      face.bent = true;
+      const Vec3 centre = face_centre(d.vertices, face);
+      double area2 = 0;
+      Vec3 c = Vec3::Zero();
+      for_face_triangles(face, [&](int a, int b, int cc) {
+        const Vec3 &pa = a < 0 ? centre : d.vertices[static_cast<size_t>(a)], &pb = d.vertices[static_cast<size_t>(b)],
+                   &pc = d.vertices[static_cast<size_t>(cc)];
+        const double t = (pb - pa).cross(pc - pa).norm();
+        area2 += t;
+        c += t * (pa + pb + pc) / 3.0;
+      });
+      face.area = 0.5 * area2;
+      if (area2 > 0) face.centroid = c / area2;
+    }
+  }
+  for (size_t cell = 0; cell < d.num_cells(); ++cell) {
+    if (!cell_touched[cell]) continue;
+    double six_v = 0;
+    for (int f : d.cell_faces[cell]) {
+      const VoronoiFace& face = d.faces[static_cast<size_t>(f)];
+      const double sign = face.cell_a == static_cast<int>(cell) ? 1.0 : -1.0;
+      const Vec3 centre = face_centre(d.vertices, face);
+      for_face_triangles(face, [&](int a, int b, int c) {
+        const Vec3& pa = a < 0 ? centre : d.vertices[static_cast<size_t>(a)];
+        six_v += sign * (d.vertices[static_cast<size_t>(b)] - pa).cross(d.vertices[static_cast<size_t>(c)] - pa).dot(pa - d.sites[cell]);
+      });
+    }
+    d.cell_volume[cell] = six_v / 6.0;
+  }
+  report.reference = std::move(reference);
+  return report;
+}
+
+}  // namespace shellfrac::brittle
