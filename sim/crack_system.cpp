@@ -267,6 +267,7 @@ void CrackSystem::partition(const World& world, mpm::SparseGrid& grid, const Sea
   if (!visibility_ || segments != visibility_->segments) {
     visibility_ = std::make_unique<VisibilityCache>();
     visibility_->segments = segments;
+    partition_memo_.clear();
   }
   // Two particles are on the same fragment side locally when they belong to the same body and, on a
   // shell, the parameter-space segment between them crosses no crack. Coupled patches are one body:
@@ -325,7 +326,7 @@ void CrackSystem::partition(const World& world, mpm::SparseGrid& grid, const Sea
     }
     return !world.shell(first.body).crack()->touches(box);
   };
-  phantoms_ = mpm::partition_nodes(grid, sets, roles, connected, one_component);
+  phantoms_ = mpm::partition_nodes(grid, sets, roles, connected, one_component, &partition_memo_);
   grid.set_phantom_copies(phantoms_);
   stats_.max_split_nodes = std::max(stats_.max_split_nodes, phantoms_.split_nodes);
 }
