@@ -49,21 +49,19 @@ void PartitionMemo::store_nodes(std::vector<uint64_t> keys, std::vector<int32_t>
   }
 }
 
-const PhantomLayout* PartitionMemo::unchanged(const SparseGrid& grid) const {
-  if (!has_layout_ || grid_ != &grid || grid_layout_ != grid.layout_version()) return nullptr;
+bool PartitionMemo::unchanged(const SparseGrid& grid) const {
+  if (!has_layout_ || grid_ != &grid || grid_layout_ != grid.layout_version()) return false;
   // The particles binned near the old flagged nodes: the same ones, each on its old base node. Then the
   // near-crack particles (binned there too) flag the same nodes, and every flagged node is reached by
   // the same particles through the same stencil entries.
-  if (grid.particles_near_blocks(blocks_) != near_) return nullptr;
+  if (grid.particles_near_blocks(blocks_) != near_) return false;
   for (size_t i = 0; i < near_.size(); ++i)
-    if (grid.particle_stencil(near_[i] >> 32, near_[i] & 0xFFFFFFFFu)[0] != base_[i]) return nullptr;
-  return &layout_;
+    if (grid.particle_stencil(near_[i] >> 32, near_[i] & 0xFFFFFFFFu)[0] != base_[i]) return false;
+  return true;
 }
 
-void PartitionMemo::store_layout(const PhantomLayout& layout, const SparseGrid& grid, std::vector<uint32_t> blocks,
-                                 const std::vector<uint64_t>& near) {
+void PartitionMemo::store_inputs(const SparseGrid& grid, std::vector<uint32_t> blocks, const std::vector<uint64_t>& near) {
   has_layout_ = true;
-  layout_ = layout;
   grid_ = &grid;
   grid_layout_ = grid.layout_version();
   blocks_ = std::move(blocks);

@@ -6,16 +6,17 @@
 //    components (no pair tests), and
 //  - when the grid numbers its nodes as before and every particle near the previous partition's nodes
 //    is the same particle on the same base node, every node sees the particles it saw and the whole
-//    layout is the previous one.
+//    layout is the previous one (unchanged(): the caller keeps the layout it has).
 // Particles cross cell boundaries rarely, so most steps take one of the two. The owner clears the memo
 // whenever the connectivity or the near-crack flags can have changed (a crack grew).
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
-#include "mpm/phantom_nodes.hpp"
 
 namespace shellfrac::mpm {
+
+class SparseGrid;
 
 class PartitionMemo {
  public:
@@ -33,12 +34,11 @@ class PartitionMemo {
   void store_nodes(std::vector<uint64_t> keys, std::vector<int32_t> labels, std::vector<uint32_t> offsets,
                    std::vector<int32_t> counts, const std::vector<uint64_t>& hashes);
 
-  // The stored layout if it still holds for `grid` (see above), else null.
-  const PhantomLayout* unchanged(const SparseGrid& grid) const;
-  // Stores the layout found on `grid`, with the blocks of its flagged nodes and the particles near them
-  // (SparseGrid::particles_near_blocks of those blocks).
-  void store_layout(const PhantomLayout& layout, const SparseGrid& grid, std::vector<uint32_t> blocks,
-                    const std::vector<uint64_t>& near);
+  // True when the layout of the last partition stored here still holds for `grid` (see above).
+  bool unchanged(const SparseGrid& grid) const;
+  // Records what decided the layout just found on `grid`: the blocks of its flagged nodes and the
+  // particles near them (SparseGrid::particles_near_blocks of those blocks).
+  void store_inputs(const SparseGrid& grid, std::vector<uint32_t> blocks, const std::vector<uint64_t>& near);
 
   void clear();
 
@@ -52,9 +52,8 @@ class PartitionMemo {
   std::vector<uint64_t> table_hash_;
   std::vector<uint32_t> table_node_;
 
-  // The whole layout and what decides it.
+  // What decided the last layout.
   bool has_layout_ = false;
-  PhantomLayout layout_;
   const SparseGrid* grid_ = nullptr;
   uint64_t grid_layout_ = 0;       // SparseGrid::layout_version() then
   std::vector<uint32_t> blocks_;   // blocks of the flagged nodes

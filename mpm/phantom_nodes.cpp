@@ -57,8 +57,6 @@ int find_root(std::vector<int>& parent, int i) {
 PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<ParticleSet>& sets,
                               const std::vector<PartitionRole>& roles, const Connectivity& connected,
                               const GroupConnectivity& one_component, PartitionMemo* memo) {
-  if (memo)
-    if (const PhantomLayout* same = memo->unchanged(grid)) return *same;
   PhantomLayout layout;
   // 1. Nodes reached by near-crack particles, listed in index order (the slot order).
   NodeSlots node_slot(grid.num_blocks());
@@ -197,7 +195,7 @@ PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<Particle
     }
   }
   if (layout.copy_parent.empty()) {
-    if (memo) memo->store_layout(layout, grid, std::move(blocks), memo_near);
+    if (memo) memo->store_inputs(grid, std::move(blocks), memo_near);
     return layout;
   }
 
@@ -217,7 +215,7 @@ PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<Particle
     }
     layout.stencil_copy[static_cast<size_t>(row) * 27 + np.stencil] = pair_copy[i];
   }
-  if (memo) memo->store_layout(layout, grid, std::move(blocks), memo_near);
+  if (memo) memo->store_inputs(grid, std::move(blocks), memo_near);
   return layout;
 }
 

@@ -231,11 +231,13 @@ void CrackSystem::count_state(const World& world) {
 }
 
 void CrackSystem::partition(const World& world, mpm::SparseGrid& grid, const SeamSystem& seams) {
-  phantoms_ = mpm::PhantomLayout{};
-  if (!phantom_nodes_) return;
   bool any_mls = false;
   for (size_t i = 0; i < world.num_shells(); ++i) any_mls = any_mls || world.shell(i).num_mls_points() > 0;
-  if (!any_mls) return;
+  if (!phantom_nodes_ || !any_mls) {
+    phantoms_ = mpm::PhantomLayout{};
+    partition_memo_.clear();  // the memo describes phantoms_, which is now empty
+    return;
+  }
   const std::vector<mpm::ParticleSet>& sets = world.particle_sets();
   std::vector<mpm::PartitionRole> roles(sets.size());
   for (size_t s = 0; s < sets.size(); ++s) {
@@ -268,6 +270,12 @@ void CrackSystem::partition(const World& world, mpm::SparseGrid& grid, const Sea
     visibility_ = std::make_unique<VisibilityCache>();
     visibility_->segments = segments;
     partition_memo_.clear();
+  }
+  // Same cracks, same grid numbering, same particles near the split nodes on the same base nodes: the
+  // layout is the one phantoms_ holds (the last partition's).
+  if (partition_memo_.unchanged(grid)) {
+    grid.set_phantom_copies(phantoms_);
+    return;
   }
   // Two particles are on the same fragment side locally when they belong to the same body and, on a
   // shell, the parameter-space segment between them crosses no crack. Coupled patches are one body:
