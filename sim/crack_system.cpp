@@ -184,12 +184,11 @@ bool CrackSystem::extract(World& world) {
     if (!cracks_[i]) continue;
     shell::ShellPatch& patch = world.shell(i);
     // The fully damaged set only grows (c_his is a running maximum): an unchanged count means an
-    // unchanged set, and the extraction would add nothing.
-    const std::vector<unsigned char> damaged =
-        patch.fractures() ? patch.fully_damaged_points() : std::vector<unsigned char>{};
-    const size_t count = static_cast<size_t>(std::count(damaged.begin(), damaged.end(), 1));
+    // unchanged set, and the extraction would add nothing (so the set itself is listed only then).
+    const size_t count = patch.fractures() ? patch.num_fully_damaged_points() : 0;
     if (patch.fractures() && count != damaged_count_[i]) {
       damaged_count_[i] = count;
+      const std::vector<unsigned char> damaged = patch.fully_damaged_points();
       const size_t first = cracks_[i]->graph().num_edges();
       const crack2d::ExtractionStats st = cracks_[i]->extract(patch.inplane_parameters(), damaged);
       ++stats_.extractions;
