@@ -7,6 +7,7 @@
 #include <numeric>
 #include <tuple>
 
+#include "mpm/partition_memo.hpp"
 #include "mpm/sparse_grid.hpp"
 
 namespace shellfrac::mpm {
@@ -14,7 +15,33 @@ namespace shellfrac::mpm {
 namespace {
 
 struct NodeParticle {
+  NodeParticle() {}  // left unset: the bucketing writes every entry
+  NodeParticle(uint32_t n, uint32_t s, uint32_t p, uint32_t k) : node(n), set(s), particle(p), stencil(k) {}
   uint32_t node, set, particle, stencil;  // stencil entry i + 3 j + 9 k of the node for this particle
+};
+
+// Slot + 1 of each flagged node, 0 for the others, kept only for the grid blocks that hold flagged nodes:
+// a table over the whole grid would be cleared every step for a thousand or so entries.
+class NodeSlots {
+ public:
+  explicit NodeSlots(size_t blocks) : block_base_(blocks, -1) {}
+  uint32_t operator[](uint32_t node) const {
+    const int32_t base = block_base_[node / SparseGrid::kBlockNodes];
+    return base < 0 ? 0 : slots_[static_cast<size_t>(base) + node % SparseGrid::kBlockNodes];
+  }
+  // The entry of `node`, its block's entries added (as 0) on first use.
+  uint32_t& entry(uint32_t node) {
+    int32_t& base = block_base_[node / SparseGrid::kBlockNodes];
+    if (base < 0) {
+      base = static_cast<int32_t>(slots_.size());
+      slots_.resize(slots_.size() + SparseGrid::kBlockNodes, 0);
+    }
+    return slots_[static_cast<size_t>(base) + node % SparseGrid::kBlockNodes];
+  }
+
+ private:
+  std::vector<int32_t> block_base_;  // per grid block: first entry in slots_, or -1
+  std::vector<uint32_t> slots_;
 };
 
 int find_root(std::vector<int>& parent, int i) {
@@ -29,76 +56,92 @@ int find_root(std::vector<int>& parent, int i) {
 
 PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<ParticleSet>& sets,
                               const std::vector<PartitionRole>& roles, const Connectivity& connected,
-                              const GroupConnectivity& one_component) {
+                              const GroupConnectivity& one_component, PartitionMemo* memo) {
   PhantomLayout layout;
-  // 1. Nodes reached by near-crack particles.
-  std::vector<unsigned char> flagged(grid.num_grid_nodes(), 0);
-  bool any = false;
+  // 1. Nodes reached by near-crack particles, listed in index order (the slot order).
+  NodeSlots node_slot(grid.num_blocks());
+  std::vector<uint32_t> slot_node;
   for (size_t s = 0; s < sets.size() && s < roles.size(); ++s) {
     if (!roles[s].near_crack) continue;
     for (size_t p = 0; p < sets[s].count; ++p)
-      if (roles[s].near_crack[p]) {
-        for (const uint32_t* n = grid.particle_stencil(s, p), *end = n + 27; n != end; ++n) flagged[*n] = 1;
-        any = true;
-      }
+      if (roles[s].near_crack[p])
+        for (const uint32_t* n = grid.particle_stencil(s, p), *end = n + 27; n != end; ++n) {
+          uint32_t& slot = node_slot.entry(*n);
+          if (!slot) {
+            slot = 1;
+            slot_node.push_back(*n);
+          }
+        }
   }
-  if (!any) return layout;
+  if (slot_node.empty()) {
+    if (memo) memo->clear();
+    return layout;
+  }
+  std::sort(slot_node.begin(), slot_node.end());
+  for (size_t slot = 0; slot < slot_node.size(); ++slot) node_slot.entry(slot_node[slot]) = static_cast<uint32_t>(slot + 1);
 
-  // 2. Every (node, particle) pair at a flagged node, bucketed by node with a counting sort (flagged
-  //    nodes in index order, particles in (set, index) order inside a node): deterministic, O(pairs).
-  std::vector<int32_t> node_slot(flagged.size(), -1);
-  std::vector<uint32_t> slot_node;
-  for (size_t n = 0; n < flagged.size(); ++n)
-    if (flagged[n]) {
-      node_slot[n] = static_cast<int32_t>(slot_node.size());
-      slot_node.push_back(static_cast<uint32_t>(n));
-    }
-  // The stencils come from the grid's per-particle cache (filled by rebuild), so nothing is recomputed.
-  std::vector<std::vector<unsigned char>> touching(sets.size());  // per particle: reaches a flagged node
+  // 2. Every (node, particle) pair at a flagged node, bucketed by node with a counting sort (particles in
+  //    (set, index) order inside a node): deterministic, O(pairs). Only particles binned next to the
+  //    flagged nodes' blocks can reach them, so only those are looked at; their stencils come from the
+  //    grid's per-particle cache (filled by rebuild).
+  std::vector<uint64_t> memo_near;  // the particles near the flagged nodes, for the memo
+  std::vector<uint32_t> blocks(slot_node.size());
+  for (size_t slot = 0; slot < slot_node.size(); ++slot) blocks[slot] = static_cast<uint32_t>(slot_node[slot] / SparseGrid::kBlockNodes);
+  blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());  // slot_node is sorted, so are its blocks
+  std::vector<uint64_t> touching = grid.particles_near_blocks(blocks);
+  if (memo) memo_near = touching;
+  std::vector<uint32_t> reached(touching.size());  // per kept particle: bit k set when stencil entry k is flagged
   std::vector<uint32_t> slot_count(slot_node.size() + 1, 0);
-  for (size_t s = 0; s < sets.size(); ++s) {
-    std::vector<unsigned char>& hit = touching[s];
-    hit.assign(sets[s].count, 0);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, sets[s].count, 1024), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t p = r.begin(); p != r.end(); ++p) {
-        const uint32_t* st = grid.particle_stencil(s, p);
-        unsigned char h = 0;
-        for (int k = 0; k < 27; ++k) h |= flagged[st[k]];
-        hit[p] = h;
+  size_t kept = 0;
+  for (const uint64_t sp : touching) {
+    const uint32_t* st = grid.particle_stencil(sp >> 32, sp & 0xFFFFFFFFu);
+    uint32_t bits = 0;
+    for (uint32_t k = 0; k < 27; ++k)
+      if (const uint32_t slot = node_slot[st[k]]) {
+        ++slot_count[slot];
+        bits |= 1u << k;
       }
-    });
-    for (size_t p = 0; p < sets[s].count; ++p) {
-      if (!hit[p]) continue;
-      const uint32_t* st = grid.particle_stencil(s, p);
-      for (int k = 0; k < 27; ++k)
-        if (flagged[st[k]]) ++slot_count[static_cast<size_t>(node_slot[st[k]]) + 1];
-    }
+    if (!bits) continue;
+    reached[kept] = bits;
+    touching[kept++] = sp;
   }
+  touching.resize(kept);
   for (size_t k = 0; k + 1 < slot_count.size(); ++k) slot_count[k + 1] += slot_count[k];
   std::vector<NodeParticle> pairs(slot_count.back());
   {
     std::vector<uint32_t> cursor(slot_count.begin(), slot_count.end() - 1);
-    for (size_t s = 0; s < sets.size(); ++s)
-      for (size_t p = 0; p < sets[s].count; ++p) {
-        if (!touching[s][p]) continue;
-        const uint32_t* st = grid.particle_stencil(s, p);
-        for (uint32_t k = 0; k < 27; ++k)
-          if (flagged[st[k]])
-            pairs[cursor[static_cast<size_t>(node_slot[st[k]])]++] = {st[k], static_cast<uint32_t>(s), static_cast<uint32_t>(p), k};
+    for (size_t t = 0; t < touching.size(); ++t) {
+      const auto s = static_cast<uint32_t>(touching[t] >> 32), p = static_cast<uint32_t>(touching[t] & 0xFFFFFFFFu);
+      const uint32_t* st = grid.particle_stencil(s, p);
+      for (uint32_t bits = reached[t]; bits; bits &= bits - 1) {
+        const auto k = static_cast<uint32_t>(__builtin_ctz(bits));
+        pairs[cursor[node_slot[st[k]] - 1]++] = NodeParticle(st[k], s, p, k);
       }
+    }
   }
 
   // 3. Components per node (in parallel: nodes are independent). component[i] numbers the components
-  //    of pair i's node by first member; a node with two or more gets one copy per component.
+  //    of pair i's node by first member; a node with two or more gets one copy per component. A node
+  //    whose particle list the memo knows takes the components found for it before.
   std::vector<int32_t> component(pairs.size(), 0);
   std::vector<int32_t> components(slot_node.size(), 0);
+  std::vector<uint64_t> keys(memo ? pairs.size() : 0), hashes(memo ? slot_node.size() : 0);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, slot_node.size(), 8), [&](const tbb::blocked_range<size_t>& r) {
     std::vector<int> parent, label;
     std::vector<uint32_t> node_sets, node_particles;
     for (size_t slot = r.begin(); slot != r.end(); ++slot) {
       const size_t begin = slot_count[slot];
       const int n = static_cast<int>(slot_count[slot + 1] - begin);
-      if (one_component) {  // component[] of the node's pairs is already 0
+      if (memo) {
+        for (size_t i = begin; i < begin + static_cast<size_t>(n); ++i) keys[i] = PartitionMemo::key(pairs[i].set, pairs[i].particle);
+        hashes[slot] = PartitionMemo::hash(&keys[begin], static_cast<size_t>(n));
+        const int known = memo->find(&keys[begin], static_cast<size_t>(n), hashes[slot], &component[begin]);
+        if (known >= 0) {
+          components[slot] = known;
+          continue;
+        }
+      }
+      if (one_component) {  // component[] of the node's pairs is still 0
         node_sets.resize(static_cast<size_t>(n));
         node_particles.resize(static_cast<size_t>(n));
         for (int a = 0; a < n; ++a) {
@@ -135,6 +178,7 @@ PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<Particle
       components[slot] = count;
     }
   });
+  if (memo) memo->store_nodes(std::move(keys), component, slot_count, components, hashes);
   std::vector<int32_t> pair_copy(pairs.size(), -1);
   for (size_t slot = 0; slot < slot_node.size(); ++slot) {
     if (components[slot] < 2) continue;
@@ -150,7 +194,10 @@ PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<Particle
       layout.copy_kind[static_cast<size_t>(pair_copy[i])] = set < roles.size() ? roles[set].kind : FieldKind::Shell;
     }
   }
-  if (layout.copy_parent.empty()) return layout;
+  if (layout.copy_parent.empty()) {
+    if (memo) memo->store_inputs(grid, std::move(blocks), memo_near);
+    return layout;
+  }
 
   // 4. Stencil rows for the particles that use a copy.
   layout.particle_row.resize(sets.size());
@@ -168,6 +215,7 @@ PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<Particle
     }
     layout.stencil_copy[static_cast<size_t>(row) * 27 + np.stencil] = pair_copy[i];
   }
+  if (memo) memo->store_inputs(grid, std::move(blocks), memo_near);
   return layout;
 }
 

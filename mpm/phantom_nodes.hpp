@@ -8,6 +8,7 @@
 namespace shellfrac::mpm {
 
 class SparseGrid;
+class PartitionMemo;
 
 // What kind of material a phantom copy holds; it decides the contact normal (thesis Eq. 4.22).
 enum class FieldKind : uint8_t { Shell = 0, Solid = 1 };
@@ -43,10 +44,13 @@ using GroupConnectivity = std::function<bool(const uint32_t*, const uint32_t*, i
 // Groups, at every node reached by a near-crack particle, all particles that reach the node into
 // connected components of `connected` (union-find); two or more components give the node one copy per
 // component. Deterministic: components are numbered by their first particle in (set, index) order.
-// Call after grid.rebuild(sets).
+// With a memo, nodes the previous call saw with the same particles reuse its components, and the memo
+// then holds this call's nodes and what decided its layout (a caller may skip the call while
+// memo->unchanged(grid); mpm/partition_memo.hpp). The caller clears the memo when `connected` or the
+// near-crack flags change. Call after grid.rebuild(sets).
 PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<ParticleSet>& sets,
                               const std::vector<PartitionRole>& roles, const Connectivity& connected,
-                              const GroupConnectivity& one_component = {});
+                              const GroupConnectivity& one_component = {}, PartitionMemo* memo = nullptr);
 
 struct ContactStats {
   size_t nodes = 0;           // split nodes visited

@@ -4,6 +4,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <atomic>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -117,6 +118,11 @@ void SparseGrid::rebuild(const std::vector<ParticleSet>& sets) {
   }
   tbb::parallel_sort(active_keys_.begin(), active_keys_.end());
   active_keys_.erase(std::unique(active_keys_.begin(), active_keys_.end()), active_keys_.end());
+  if (active_keys_ != previous_keys_) {
+    static std::atomic<uint64_t> versions{0};  // unique across grids, so no other grid's number matches
+    layout_version_ = ++versions;
+    previous_keys_ = active_keys_;
+  }
   const size_t num_blocks = active_keys_.size();
 
   block_coords_.resize(num_blocks);
@@ -180,6 +186,38 @@ void SparseGrid::rebuild(const std::vector<ParticleSet>& sets) {
     std::fill(force_.begin() + from, force_.begin() + to, Vec3::Zero());
     std::fill(velocity_.begin() + from, velocity_.begin() + to, Vec3::Zero());
   });
+}
+
+std::vector<uint64_t> SparseGrid::particles_near_blocks(const std::vector<uint32_t>& blocks) const {
+  std::vector<uint32_t> bins;  // blocks whose binned particles can reach one of `blocks`
+  bins.reserve(blocks.size() * 8);
+  for (uint32_t b : blocks) {
+    const BlockCoord& c = block_coords_[b];
+    for (int d = 0; d < 8; ++d) {
+      const int32_t back = find_block(pack(c.x() - (d & 1), c.y() - ((d >> 1) & 1), c.z() - (d >> 2)));
+      if (back >= 0) bins.push_back(static_cast<uint32_t>(back));
+    }
+  }
+  std::sort(bins.begin(), bins.end());
+  bins.erase(std::unique(bins.begin(), bins.end()), bins.end());
+  // A bit per particle in flat (set, index) numbering: reading the bits in order gives the particles
+  // sorted without a sort.
+  const size_t total = set_first_.back();
+  std::vector<uint64_t> bits((total + 63) / 64, 0);
+  for (uint32_t b : bins)
+    for (uint32_t e = bin_offsets_[b]; e < bin_offsets_[b + 1]; ++e) {
+      const size_t flat = set_first_[entries_[e].set] + entries_[e].index;
+      bits[flat / 64] |= uint64_t{1} << (flat % 64);
+    }
+  std::vector<uint64_t> particles;
+  size_t set = 0;
+  for (size_t w = 0; w < bits.size(); ++w)
+    for (uint64_t word = bits[w]; word; word &= word - 1) {
+      const size_t flat = 64 * w + static_cast<size_t>(__builtin_ctzll(word));
+      while (flat >= set_first_[set + 1]) ++set;
+      particles.push_back(uint64_t{set} << 32 | (flat - set_first_[set]));
+    }
+  return particles;
 }
 
 std::array<uint32_t, 27> SparseGrid::stencil_nodes(const Vec3& x) const {

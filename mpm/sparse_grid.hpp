@@ -72,6 +72,16 @@ class SparseGrid {
     return stencil_[entry_of_[set_first_[set] + p]].node;
   }
 
+  // The particles whose stencils may reach a node of one of `blocks` (block = node / kBlockNodes), as
+  // set << 32 | index in ascending order: those binned in each block or the block before it along any
+  // axis, since a stencil spans its base node's block and the next one per axis. A superset: callers test
+  // the stencils themselves. Valid until the next rebuild.
+  std::vector<uint64_t> particles_near_blocks(const std::vector<uint32_t>& blocks) const;
+  // Changes whenever a rebuild activates other blocks than the rebuild before it (and differs between
+  // grids): while it stays the same, node indices mean the same nodes, and a particle on the same base
+  // node has the same stencil.
+  uint64_t layout_version() const { return layout_version_; }
+
   // Node storage, index = block * 64 + local, then the phantom copies. Nodes without mass have zero velocity.
   size_t num_nodes() const { return mass_.size(); }
   size_t num_blocks() const { return block_coords_.size(); }
@@ -117,6 +127,8 @@ class SparseGrid {
   int32_t find_block(uint64_t key) const;
 
   std::vector<uint64_t> active_keys_;  // sorted; block b has key active_keys_[b]
+  std::vector<uint64_t> previous_keys_;  // active_keys_ of the rebuild before
+  uint64_t layout_version_ = 0;
   std::vector<BlockCoord> block_coords_;
   std::vector<std::array<int32_t, 8>> forward_neighbours_;  // block + {0,1}^3, -1 if inactive
   std::vector<uint32_t> bin_offsets_;                        // CSR of particle entries per block

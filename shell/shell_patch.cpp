@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cstring>
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -471,6 +472,33 @@ std::vector<unsigned char> ShellPatch::fully_damaged_points() const {
     for (size_t l = 0; l < L; ++l)
       if (damage_history_[q * L + l] >= 1.0) out[q] = 1;
   return out;
+}
+
+size_t ShellPatch::num_fully_damaged_points() const {
+  // Most calls find nothing fully damaged: a pass two values at a time (GCC leaves the scalar form of
+  // this loop unvectorised) settles that before the per-point count.
+  typedef double Pair __attribute__((vector_size(2 * sizeof(double))));
+  typedef long long PairMask __attribute__((vector_size(2 * sizeof(long long))));
+  const Pair one = {1.0, 1.0};
+  PairMask reached = {0, 0};
+  const size_t n = damage_history_.size();
+  size_t i = 0;
+  for (; i + 2 <= n; i += 2) {
+    Pair h;
+    std::memcpy(&h, &damage_history_[i], sizeof(Pair));
+    reached |= h >= one;
+  }
+  bool any = reached[0] || reached[1];
+  for (; i < n; ++i) any = any || damage_history_[i] >= 1.0;
+  if (!any) return 0;
+  const size_t L = layers_.xi3.size();
+  size_t count = 0;
+  for (size_t q = 0; q < param_.size(); ++q) {
+    bool full = false;
+    for (size_t l = 0; l < L; ++l) full = full || damage_history_[q * L + l] >= 1.0;
+    count += full;
+  }
+  return count;
 }
 
 double ShellPatch::max_damage() const {

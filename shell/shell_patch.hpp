@@ -190,6 +190,8 @@ class ShellPatch {
   const std::vector<double>& damage_history_values() const { return damage_history_; }
   // Per in-plane point: 1 when the damage history of any layer reached 1 (the crack extraction's input).
   std::vector<unsigned char> fully_damaged_points() const;
+  // How many in-plane points fully_damaged_points() marks, without building the list.
+  size_t num_fully_damaged_points() const;
   double max_damage() const;
 
   // Cracks (thesis sec. 4.6). After the crack graph gained edges [first_new_edge, end), every Type III

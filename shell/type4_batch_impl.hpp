@@ -114,15 +114,19 @@ SF_INLINE LaneFrame lane_frame(const Lanes3& g1, const Lanes3& g2) {
 // sigma_f det F by a relative margin of 1e-6 (far above the round-off of either computation and the 3e-8 of
 // lambda3_sq), lane_damage would compute c = 0 and leave tau unchanged; compared squared, so det F needs no
 // e^x. A lane with stored damage under the monotone rule is never certain. NaN anywhere: not certain.
-SF_INLINE LaneMask lane_surely_intact(const LaneStress& st, const Lanes3& g1, const Lanes3& g2, Lanes normal,
-                                      Lanes sigma_f, Lanes c_old) {
+// `always` holds the lanes' layer-independent conditions, sigma_f > 0 and c_old <= 0 (the caller forms it
+// once per group); without plane strain, normal = 0 passes and its test is skipped.
+SF_INLINE LaneMask lane_surely_intact(const LaneStress& st, const Lanes3& g1, const Lanes3& g2, bool plane_strain,
+                                      Lanes normal, Lanes sigma_f, LaneMask always) {
   const Lanes c11 = dot(g1, g1), c22 = dot(g2, g2);
   const Lanes B = vabs(st.t11) * c11 + vabs(st.t12) * (c11 + c22) + vabs(st.t22) * c22;
   const Lanes limit_sq = 0.999996 * (sigma_f * st.J) * (sigma_f * st.J) * st.lambda3_sq;  // (sigma_f det F)^2
-  const Lanes B_sq = B * B, normal_sq = normal * normal;
+  const Lanes B_sq = B * B;
   const double inf = __builtin_inf();  // an overflowed square would pass any limit
-  return st.ok & (sigma_f > 0.0) & (B_sq <= limit_sq) & (B_sq < inf) &
-         ((normal <= 0.0) | ((normal_sq <= limit_sq) & (normal_sq < inf))) & (c_old <= 0.0);
+  const LaneMask intact = always & st.ok & (B_sq <= limit_sq) & (B_sq < inf);
+  if (!plane_strain) return intact;
+  const Lanes normal_sq = normal * normal;
+  return intact & ((normal <= 0.0) | ((normal_sq <= limit_sq) & (normal_sq < inf)));
 }
 
 // Rankine damage (thesis Eq. 2.28) and tensile weakening (Eq. 2.29-2.31) on lanes; c_old: the stored damage
@@ -223,9 +227,11 @@ SF_INLINE void lane_group(const shellfrac::shell::Type4Data& d, const shellfrac:
   const Lanes given = gather([&](int i) { return r33[i]; });
   // Per point material of the damage law (the same for every layer).
   Lanes sigma_f = splat(0.0), H = splat(0.0);
+  LaneMask sigma_positive = splat_int(0);  // part of the damage pre-check that no layer changes
   if constexpr (Fracturing) {
     sigma_f = gather([&](int i) { return d.failure_stress[q[i]]; });
     H = gather([&](int i) { return d.brittleness[q[i]]; });
+    sigma_positive = sigma_f > 0.0;
   }
   Lanes3 K1 = zero3(), K2 = zero3(), C1 = zero3(), C2 = zero3();
   Lanes c_new[kType4MaxLayers];  // damage per layer, written back below
@@ -280,7 +286,8 @@ SF_INLINE void lane_group(const shellfrac::shell::Type4Data& d, const shellfrac:
       // The stored damage matters only to the monotone rule.
       const Lanes c_old = d.monotone ? gather([&](int i) { return d.damage[q[i] * L + l]; }) : splat(0.0);
       const Lanes normal = d.plane_strain ? d.lambda * st.lnJ : splat(0.0);
-      if (all(lane_surely_intact(st, g1, g2, normal, sigma_f, c_old))) {
+      const LaneMask always = d.monotone ? sigma_positive & (c_old <= 0.0) : sigma_positive;  // c_old = 0 otherwise
+      if (all(lane_surely_intact(st, g1, g2, d.plane_strain, normal, sigma_f, always))) {
         c_new[l] = d.monotone ? vmax(splat(0.0), c_old) : splat(0.0);  // lane_damage's c; tau is unchanged
       } else {
         const Lanes lambda3 = d.model == TransverseModel::Given ? given : vexp(st.ln_lambda3);
@@ -307,7 +314,8 @@ SF_INLINE void lane_group(const shellfrac::shell::Type4Data& d, const shellfrac:
     bool consecutive = (active & ((1u << kLanes) - 1)) == (1u << kLanes) - 1;
     for (int i = 1; i < kLanes; ++i) consecutive = consecutive && q[i] == q[0] + static_cast<size_t>(i);
     if (consecutive && !any(nonzero)) {
-      for (size_t k = 0; k < kLanes * L; ++k) d.damage[q[0] * L + k] = 0.0;
+      const Lanes zero = splat(0.0);  // +0, as the scalar stores wrote: one register per layer's worth
+      for (size_t l = 0; l < L; ++l) __builtin_memcpy(d.damage + q[0] * L + l * kLanes, &zero, sizeof(Lanes));
     } else {
       for (int i = 0; i < kLanes; ++i) {
         if (!((active >> i) & 1u) || status[i] != kType4Ok) continue;

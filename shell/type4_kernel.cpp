@@ -6,14 +6,34 @@
 
 namespace shellfrac::shell {
 
+namespace {
+
+// True when the Rankine criterion certainly gives c = 0, decided without the principal split (the
+// scalar twin of the lane kernel's pre-check, type4_batch_impl.hpp): the largest principal value of tau is
+// at most its Frobenius norm, which is at most B = |t11| c11 + |t12| (c11 + c22) + |t22| c22. With B and
+// tau33 below sigma_f det F by a relative margin of 1e-6 (far above the round-off of the principal value),
+// the full path's effective stress is <= sigma_f and rankine_damage returns 0. NaN anywhere: false.
+bool surely_below_failure(const InPlaneTensor& tau, const Vec3& g1, const Vec3& g2, double normal, double sigma_f,
+                          double detF) {
+  const double c11 = g1.squaredNorm(), c22 = g2.squaredNorm();
+  const double B = std::abs(tau.t11) * c11 + std::abs(tau.t12) * (c11 + c22) + std::abs(tau.t22) * c22;
+  const double limit = 0.999999 * sigma_f * detF;
+  return sigma_f > 0.0 && detF > 0.0 && B <= limit && normal <= limit && B < HUGE_VAL && limit < HUGE_VAL;
+}
+
+}  // namespace
+
 InPlaneTensor type4_damaged_stress(const Type4Data& d, const InPlaneTensor& tau, const Vec3& g1, const Vec3& g2,
                                    double detF, size_t q, size_t ql, const double* tau33) {
   // Effective stress: the largest principal Cauchy stress of the undamaged trial state (thesis sec.
   // 4.4.1). The in-plane stress has a zero transverse principal value, so it is at least 0; plane strain
   // has tau^33 there instead (g_3 = a_3 is a unit principal direction).
   const double normal = tau33 ? *tau33 : 0.0;
-  const double effective = std::max(normal, largest_principal(tau, g1, g2)) / detF;
-  double c = rankine_damage(effective, d.failure_stress[q], d.brittleness[q]);  // thesis Eq. 2.28
+  double c = 0.0;
+  if (!surely_below_failure(tau, g1, g2, normal, d.failure_stress[q], detF)) {
+    const double effective = std::max(normal, largest_principal(tau, g1, g2)) / detF;
+    c = rankine_damage(effective, d.failure_stress[q], d.brittleness[q]);  // thesis Eq. 2.28
+  }
   if (d.monotone) c = std::max(c, d.damage[ql]);  // conventional rule, kept for comparison
   d.damage[ql] = c;                               // healing rule: c^{n+1} = cbar
   d.damage_history[ql] = std::max(d.damage_history[ql], c);

@@ -184,12 +184,11 @@ bool CrackSystem::extract(World& world) {
     if (!cracks_[i]) continue;
     shell::ShellPatch& patch = world.shell(i);
     // The fully damaged set only grows (c_his is a running maximum): an unchanged count means an
-    // unchanged set, and the extraction would add nothing.
-    const std::vector<unsigned char> damaged =
-        patch.fractures() ? patch.fully_damaged_points() : std::vector<unsigned char>{};
-    const size_t count = static_cast<size_t>(std::count(damaged.begin(), damaged.end(), 1));
+    // unchanged set, and the extraction would add nothing (so the set itself is listed only then).
+    const size_t count = patch.fractures() ? patch.num_fully_damaged_points() : 0;
     if (patch.fractures() && count != damaged_count_[i]) {
       damaged_count_[i] = count;
+      const std::vector<unsigned char> damaged = patch.fully_damaged_points();
       const size_t first = cracks_[i]->graph().num_edges();
       const crack2d::ExtractionStats st = cracks_[i]->extract(patch.inplane_parameters(), damaged);
       ++stats_.extractions;
@@ -231,11 +230,13 @@ void CrackSystem::count_state(const World& world) {
 }
 
 void CrackSystem::partition(const World& world, mpm::SparseGrid& grid, const SeamSystem& seams) {
-  phantoms_ = mpm::PhantomLayout{};
-  if (!phantom_nodes_) return;
   bool any_mls = false;
   for (size_t i = 0; i < world.num_shells(); ++i) any_mls = any_mls || world.shell(i).num_mls_points() > 0;
-  if (!any_mls) return;
+  if (!phantom_nodes_ || !any_mls) {
+    phantoms_ = mpm::PhantomLayout{};
+    partition_memo_.clear();  // the memo describes phantoms_, which is now empty
+    return;
+  }
   const std::vector<mpm::ParticleSet>& sets = world.particle_sets();
   std::vector<mpm::PartitionRole> roles(sets.size());
   for (size_t s = 0; s < sets.size(); ++s) {
@@ -267,6 +268,13 @@ void CrackSystem::partition(const World& world, mpm::SparseGrid& grid, const Sea
   if (!visibility_ || segments != visibility_->segments) {
     visibility_ = std::make_unique<VisibilityCache>();
     visibility_->segments = segments;
+    partition_memo_.clear();
+  }
+  // Same cracks, same grid numbering, same particles near the split nodes on the same base nodes: the
+  // layout is the one phantoms_ holds (the last partition's).
+  if (partition_memo_.unchanged(grid)) {
+    grid.set_phantom_copies(phantoms_);
+    return;
   }
   // Two particles are on the same fragment side locally when they belong to the same body and, on a
   // shell, the parameter-space segment between them crosses no crack. Coupled patches are one body:
@@ -325,7 +333,7 @@ void CrackSystem::partition(const World& world, mpm::SparseGrid& grid, const Sea
     }
     return !world.shell(first.body).crack()->touches(box);
   };
-  phantoms_ = mpm::partition_nodes(grid, sets, roles, connected, one_component);
+  phantoms_ = mpm::partition_nodes(grid, sets, roles, connected, one_component, &partition_memo_);
   grid.set_phantom_copies(phantoms_);
   stats_.max_split_nodes = std::max(stats_.max_split_nodes, phantoms_.split_nodes);
 }

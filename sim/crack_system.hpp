@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "crack2d/consistent_extraction.hpp"
+#include "mpm/partition_memo.hpp"
 #include "mpm/phantom_nodes.hpp"
 #include "mpm/sparse_grid.hpp"
 #include "scene/model.hpp"
@@ -80,6 +81,8 @@ class CrackSystem {
   // is cached across steps (per thread) and dropped when any crack grows.
   struct VisibilityCache;
   std::unique_ptr<VisibilityCache> visibility_;
+  // What the last partition found (its layout, its nodes' components); cleared with the visibility cache.
+  mpm::PartitionMemo partition_memo_;
   CrackStats stats_;
 };
 

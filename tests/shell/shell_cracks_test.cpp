@@ -2,6 +2,7 @@
 // damage with healing (sec. 4.4.1).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "crack2d/crack_graph.hpp"
@@ -136,6 +137,41 @@ TEST(ShellCracks, DamageWeakensTensionAndHealsUnlessMonotone) {
     EXPECT_LE((healing.force[k] - intact.force[k]).norm(), 1e-9 * scale);
     EXPECT_LE((monotone.force[k] - (1 - c) * intact.force[k]).norm(), 1e-9 * scale);
   }
+}
+
+}  // namespace
+}  // namespace shellfrac::shell
+
+namespace shellfrac::shell {
+namespace {
+
+// The count of fully damaged points (the crack extraction's trigger) against the per-point histories: a
+// patch whose right half is pulled far past the failure stress, so part of it reaches c = 1 and part not.
+TEST(ShellCracks, FullyDamagedCountMatchesTheHistories) {
+  const nurbs::NurbsSurface rest = nurbs::flat_patch(1.0, 1.0, 8, 8);
+  ShellMaterial m = material(1e6, 0.3, 0.01);
+  m.fracture.enabled = true;
+  m.fracture.failure_stress = 5e4;
+  m.brittleness = 0.5;
+  ShellPatch p(rest, m);
+  ASSERT_FALSE(p.compute_forces().failed);
+  EXPECT_EQ(p.num_fully_damaged_points(), 0u);  // unloaded: nothing damaged
+  for (size_t k = 0; k < p.x.size(); ++k) {
+    const Vec3& x0 = rest.control_points()[k];
+    p.x[k] = x0 + Vec3(x0.x() > 0.6 ? 0.4 * (x0.x() - 0.6) : 0.0, 0.0, 0.0);  // 40% stretch right of x = 0.6
+  }
+  ASSERT_FALSE(p.compute_forces().failed);
+  size_t want = 0;
+  for (size_t q = 0; q < p.num_inplane_points(); ++q) {
+    bool full = false;
+    for (int l = 0; l < p.num_layers(); ++l) full = full || p.damage_history(q, l) >= 1.0;
+    want += full;
+  }
+  EXPECT_GT(want, 0u);
+  EXPECT_LT(want, p.num_inplane_points());
+  EXPECT_EQ(p.num_fully_damaged_points(), want);
+  const std::vector<unsigned char> listed = p.fully_damaged_points();
+  EXPECT_EQ(static_cast<size_t>(std::count(listed.begin(), listed.end(), 1)), want);
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
+
 #include <cmath>
 #include <functional>
 #include <memory>
@@ -406,6 +408,56 @@ TEST(Type4Batch, PatchForcesEqualTheScalarKernel) {
     for (size_t k = 0; k < batched.damage_values().size(); ++k)
       EXPECT_NEAR(batched.damage_values()[k], scalar.damage_values()[k], 1e-12);
   }
+}
+
+}  // namespace
+}  // namespace shellfrac::shell
+
+namespace shellfrac::shell {
+namespace {
+
+// The scalar damage law against an independent Rankine evaluation: the largest eigenvalue of the 3x3
+// Cauchy stress tau^{ab} g_a (x) g_b / det F (a symmetric eigen solver; the transverse direction adds 0, or
+// tau33 under plane strain), then Eq. 2.28. States from well below to past sigma_f, both signs of the
+// stress and sheared tangents: c within 1e-9 and exactly +0 wherever the effective stress is below sigma_f
+// by more than 1e-9 relative (the pre-check skips the principal split there; the result must not change).
+TEST(Type4Damage, ScalarDamageEqualsAnIndependentRankineEvaluation) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), ratio(0.3, 1.6);
+  size_t checked = 0, zero = 0, damaged = 0;
+  for (int rep = 0; rep < 20000; ++rep) {
+    const Vec3 g1(1.0 + 0.2 * u(rng), 0.3 * u(rng), 0.1 * u(rng)), g2(0.3 * u(rng), 1.0 + 0.2 * u(rng), 0.1 * u(rng));
+    const InPlaneTensor tau{1e4 * u(rng), 1e4 * u(rng), 1e4 * u(rng)};
+    const double detF = 1.0 + 0.3 * u(rng), tau33 = 1e4 * u(rng);
+    const bool plane_strain = rep % 2 == 1;
+    Eigen::Matrix3d T = tau.t11 * g1 * g1.transpose() + tau.t12 * (g1 * g2.transpose() + g2 * g1.transpose()) +
+                        tau.t22 * g2 * g2.transpose();
+    const double largest = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(T).eigenvalues().maxCoeff();
+    const double effective = std::max(plane_strain ? tau33 : 0.0, largest) / detF;
+    const double sigma_f = std::abs(effective) / ratio(rng) + 1.0, H = 0.5;
+    double damage = 0.7, history = 0.2;  // the healing rule overwrites c; the history keeps its maximum
+    Type4Data d;
+    d.fracturing = true;
+    d.damage = &damage;
+    d.damage_history = &history;
+    d.failure_stress = &sigma_f;
+    d.brittleness = &H;
+    type4_damaged_stress(d, tau, g1, g2, detF, 0, 0, plane_strain ? &tau33 : nullptr);
+    const double want = rankine_damage(effective, sigma_f, H);
+    ++checked;
+    if (effective < sigma_f * (1.0 - 1e-9)) {
+      EXPECT_EQ(damage, 0.0);
+      EXPECT_FALSE(std::signbit(damage));
+      ++zero;
+    } else {
+      EXPECT_NEAR(damage, want, 1e-9);
+      damaged += want > 0;
+    }
+    EXPECT_EQ(history, std::max(0.2, damage));
+  }
+  EXPECT_EQ(checked, 20000u);
+  EXPECT_GT(zero, 2000u);     // both paths are exercised
+  EXPECT_GT(damaged, 2000u);
 }
 
 }  // namespace
