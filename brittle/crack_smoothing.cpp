@@ -233,9 +233,8 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
     }
   };
   auto corner_position = [&](size_t c) { return Vec3((corner_at[c].cast<double>() + Vec3::Constant(0.5)) * h + shift[c]); };
-  const int steps_per_pass = o.mu < 0 ? 2 : 1;
-  for (int pass = 0; pass < steps_per_pass * o.passes; ++pass) {
-    const double step = pass % steps_per_pass == 0 ? o.lambda : o.mu;
+  for (int pass = 0; pass < o.passes; ++pass) {
+    const double step = o.lambda;
     // Umbrella operator with uniform weights, all corners from the same positions (Jacobi).
     for (size_t c = 0; c < nc; ++c) {
       target[c] = shift[c];

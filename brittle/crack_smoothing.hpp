@@ -28,9 +28,8 @@ namespace shellfrac::brittle {
 // Every vertex is one point of the conforming diagram, so both cells of a face see the same moved face.
 // Moved faces are marked bent and triangulated as stars around their centres (VoronoiFace::bent).
 struct CrackSmoothingOptions {
-  int passes = 10;       // lambda (|mu) steps
+  int passes = 10;       // Laplacian steps (Taubin's lambda|mu pairs measured worse: docs/brittle.md)
   double lambda = 0.5;   // Laplacian step
-  double mu = 0.0;       // < 0: Taubin's inflating step after each lambda step (measured worse, below)
   double reach = 0.45;   // a corner moves at most this fraction of h along each axis
 };
 

@@ -3,8 +3,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <cstring>
 #include <array>
+#include <cstring>
 #include <cstdint>
 #include <limits>
 #include <cmath>
@@ -465,12 +465,16 @@ double ShellPatch::parameter_spacing() const {
   return std::min(control_grid_.cell_u, control_grid_.cell_v) / std::sqrt(static_cast<double>(points_per_cell_));
 }
 
-std::vector<unsigned char> ShellPatch::fully_damaged_points() const {
+bool ShellPatch::point_fully_damaged(size_t q) const {
   const size_t L = layers_.xi3.size();
+  for (size_t l = 0; l < L; ++l)
+    if (damage_history_[q * L + l] >= 1.0) return true;
+  return false;
+}
+
+std::vector<unsigned char> ShellPatch::fully_damaged_points() const {
   std::vector<unsigned char> out(param_.size(), 0);
-  for (size_t q = 0; q < param_.size() && !damage_history_.empty(); ++q)
-    for (size_t l = 0; l < L; ++l)
-      if (damage_history_[q * L + l] >= 1.0) out[q] = 1;
+  for (size_t q = 0; q < param_.size() && !damage_history_.empty(); ++q) out[q] = point_fully_damaged(q);
   return out;
 }
 
@@ -491,13 +495,8 @@ size_t ShellPatch::num_fully_damaged_points() const {
   bool any = reached[0] || reached[1];
   for (; i < n; ++i) any = any || damage_history_[i] >= 1.0;
   if (!any) return 0;
-  const size_t L = layers_.xi3.size();
   size_t count = 0;
-  for (size_t q = 0; q < param_.size(); ++q) {
-    bool full = false;
-    for (size_t l = 0; l < L; ++l) full = full || damage_history_[q * L + l] >= 1.0;
-    count += full;
-  }
+  for (size_t q = 0; q < param_.size(); ++q) count += point_fully_damaged(q);
   return count;
 }
 

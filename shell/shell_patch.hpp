@@ -256,6 +256,8 @@ class ShellPatch {
   double bending_step_scale() const;
 
  private:
+  // The damage history of some layer of in-plane point q reached 1 (damage_history_ not empty).
+  bool point_fully_damaged(size_t q) const;
   void build_quadrature(const QuadratureRule& rule);
   void build_masses();
   void build_force_gather();
