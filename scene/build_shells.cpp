@@ -78,6 +78,7 @@ model::FractureSpec fracture_of(const Fracture& f) {
   out.failure_stress = *f.failure_stress;
   out.fracture_energy = *f.fracture_energy;
   out.rule = f.damage_rule == "monotone" ? shell::DamageRule::Monotone : shell::DamageRule::Healing;
+  out.residual_stiffness = f.residual_stiffness.value_or(0.0);
   for (const FailureRegion& r : f.regions) {
     model::FailureRegion fr;
     fr.polygon = points2(*r.polygon);

@@ -103,6 +103,7 @@ void describe(V& v, Fracture& f) {
   v.number("failure_stress", f.failure_stress, Range::positive(), kRequired);
   v.number("fracture_energy", f.fracture_energy, Range::positive(), kRequired);
   v.choice("damage_rule", f.damage_rule, {"healing", "monotone"});
+  v.number("residual_stiffness", f.residual_stiffness, Range::closed(0.0, 0.1));
   v.objects("regions", f.regions, 0);
 }
 

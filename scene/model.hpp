@@ -34,6 +34,7 @@ struct FractureSpec {
   double failure_stress = 0;   // sigma_f [Pa]
   double fracture_energy = 0;  // G_f [J/m^2]
   shell::DamageRule rule = shell::DamageRule::Healing;
+  double residual_stiffness = 0;  // r in [0, 0.1]: tensile principal stresses scaled by 1 - (1 - r) c
   std::vector<FailureRegion> regions;  // later regions win where they overlap
 };
 

@@ -57,6 +57,7 @@ struct FailureRegion {
 struct Fracture {
   Opt<double> failure_stress, fracture_energy;
   Opt<std::string> damage_rule;  // "healing" or "monotone"
+  Opt<double> residual_stiffness;  // share of the tensile stress a fully damaged point keeps
   std::vector<FailureRegion> regions;
 };
 

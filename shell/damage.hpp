@@ -18,6 +18,10 @@ struct FractureParams {
   double failure_stress = 0;     // sigma_f [Pa]; per-point overrides come from scene regions
   double fracture_energy = 0;    // G_f, mode-I fracture energy [J/m^2]
   DamageRule rule = DamageRule::Healing;
+  // r: the share of its tensile stress a fully damaged point keeps. The thesis scales tensile principal
+  // stresses by 1 - c (Eq. 2.30, r = 0); CD-MPM (Wolper et al. 2020, sec. 3.2) degrades to r at full
+  // damage so that fully damaged material cannot stretch without bound. Here the factor is 1 - (1 - r) c.
+  double residual_stiffness = 0;
 };
 
 // Brittleness H = Hbar l / (1 - Hbar l) with Hbar = sigma_f^2 / (2 E G_f) and the characteristic length

@@ -288,6 +288,7 @@ Type4Data ShellPatch::type4_data() {
   d.plasticity = material_.plasticity;
   d.fracturing = !damage_.empty();
   d.monotone = material_.fracture.rule == DamageRule::Monotone;
+  d.residual = material_.fracture.residual_stiffness;
   d.layers = num_layers();
   d.xi3 = layers_.xi3.data();
   d.x = x.data();

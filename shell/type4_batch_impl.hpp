@@ -132,7 +132,8 @@ SF_INLINE LaneMask lane_surely_intact(const LaneStress& st, const Lanes3& g1, co
 // Rankine damage (thesis Eq. 2.28) and tensile weakening (Eq. 2.29-2.31) on lanes; c_old: the stored damage
 // (used by the monotone rule); returns c in `c_out`.
 SF_INLINE void lane_damage(Lanes& t11, Lanes& t12, Lanes& t22, const Lanes3& g1, const Lanes3& g2, Lanes detF,
-                           Lanes normal, Lanes sigma_f, Lanes H, Lanes c_old, bool monotone, Lanes& c_out) {
+                           Lanes normal, Lanes sigma_f, Lanes H, Lanes c_old, bool monotone, double residual,
+                           Lanes& c_out) {
   const LaneFrame f = lane_frame(g1, g2);
   // local components s = E T E^T
   const Lanes a11 = f.e11 * t11 + f.e12 * t12, a12 = f.e11 * t12 + f.e12 * t22, a22 = f.e22 * t22;
@@ -156,8 +157,9 @@ SF_INLINE void lane_damage(Lanes& t11, Lanes& t12, Lanes& t22, const Lanes3& g1,
   const Lanes nrm = vsqrt(vx * vx + vy * vy);
   const LaneMask round = r <= 1e-300;
   const Lanes cs = select(round, splat(1.0), vx / nrm), sn = select(round, splat(0.0), vy / nrm);
-  l1 = select(l1 > 0.0, l1 * (1.0 - c), l1);
-  l2 = select(l2 > 0.0, l2 * (1.0 - c), l2);
+  const Lanes keep = 1.0 - (1.0 - residual) * c;  // 1 - c in the thesis (residual 0, FractureParams)
+  l1 = select(l1 > 0.0, l1 * keep, l1);
+  l2 = select(l2 > 0.0, l2 * keep, l2);
   const Lanes w11 = l1 * cs * cs + l2 * sn * sn;
   const Lanes w12 = (l1 - l2) * cs * sn;
   const Lanes w22 = l1 * sn * sn + l2 * cs * cs;
@@ -291,7 +293,7 @@ SF_INLINE void lane_group(const shellfrac::shell::Type4Data& d, const shellfrac:
         c_new[l] = d.monotone ? vmax(splat(0.0), c_old) : splat(0.0);  // lane_damage's c; tau is unchanged
       } else {
         const Lanes lambda3 = d.model == TransverseModel::Given ? given : vexp(st.ln_lambda3);
-        lane_damage(t11, t12, t22, g1, g2, st.J * lambda3, normal, sigma_f, H, c_old, d.monotone, c_new[l]);
+        lane_damage(t11, t12, t22, g1, g2, st.J * lambda3, normal, sigma_f, H, c_old, d.monotone, d.residual, c_new[l]);
       }
     }
     // dPsi/dg_alpha = V tau^{alpha beta} g_beta

@@ -37,7 +37,8 @@ InPlaneTensor type4_damaged_stress(const Type4Data& d, const InPlaneTensor& tau,
   if (d.monotone) c = std::max(c, d.damage[ql]);  // conventional rule, kept for comparison
   d.damage[ql] = c;                               // healing rule: c^{n+1} = cbar
   d.damage_history[ql] = std::max(d.damage_history[ql], c);
-  return c > 0 ? weaken_tensile_part(tau, g1, g2, c) : tau;  // thesis Eq. 2.29-2.31
+  // thesis Eq. 2.29-2.31, with the residual share r kept by a fully damaged point (FractureParams)
+  return c > 0 ? weaken_tensile_part(tau, g1, g2, (1.0 - d.residual) * c) : tau;
 }
 
 Type4Status type4_point_force(const Type4Data& d, size_t q, const Type4Basis& b, bool membrane, double r33,

@@ -34,6 +34,7 @@ struct Type4Data {
   PlasticityParams plasticity;
   bool fracturing = false;
   bool monotone = false;  // DamageRule::Monotone
+  double residual = 0;    // FractureParams::residual_stiffness
   int layers = 0;
   const double* xi3 = nullptr;  // layers
   const Vec3* x = nullptr;      // control points

@@ -23,6 +23,7 @@ shell::ShellMaterial shell_material(const scene::model::Shell& s, const scene::m
   m.fracture.failure_stress = s.material.fracture.failure_stress;
   m.fracture.fracture_energy = s.material.fracture.fracture_energy;
   m.fracture.rule = s.material.fracture.rule;
+  m.fracture.residual_stiffness = s.material.fracture.residual_stiffness;
   if (grid.adaptive) m.shear_mass_share = scene::model::kAdaptiveShearMassShare;
   return m;
 }

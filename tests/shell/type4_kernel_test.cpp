@@ -460,5 +460,68 @@ TEST(Type4Damage, ScalarDamageEqualsAnIndependentRankineEvaluation) {
   EXPECT_GT(damaged, 2000u);
 }
 
+// A residual stiffness r (FractureParams::residual_stiffness, CD-MPM's g(c) floor) scales the tensile
+// principal Cauchy stresses by 1 - (1 - r) c instead of 1 - c (thesis Eq. 2.30 with r = 0) and leaves the
+// compressive ones alone. Checked against an independent eigen-decomposition of the 3x3 stress on random
+// states past sigma_f (fully damaged and softening), to 1e-9 of the stress scale.
+TEST(Type4Damage, ResidualStiffnessKeepsItsShareOfTheTensileStress) {
+  std::mt19937 rng(22);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double r = 0.01, H = 0.5;
+  auto tensor = [](const InPlaneTensor& t, const Vec3& g1, const Vec3& g2) -> Eigen::Matrix3d {
+    return t.t11 * g1 * g1.transpose() + t.t12 * (g1 * g2.transpose() + g2 * g1.transpose()) +
+           t.t22 * g2 * g2.transpose();
+  };
+  int full = 0, softening = 0;
+  for (int rep = 0; rep < 2000; ++rep) {
+    const Vec3 g1(1.0 + 0.2 * u(rng), 0.3 * u(rng), 0.1 * u(rng)), g2(0.3 * u(rng), 1.0 + 0.2 * u(rng), 0.1 * u(rng));
+    const InPlaneTensor tau{1e4 * u(rng), 1e4 * u(rng), 1e4 * u(rng)};
+    const Eigen::Matrix3d T = tensor(tau, g1, g2);
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(T);
+    const double largest = eig.eigenvalues().maxCoeff();
+    if (largest <= 1.0) continue;
+    // sigma_f at a tenth (fully damaged) or 0.9 (softening) of the effective stress (det F = 1)
+    const double sigma_f = largest * (rep % 2 ? 0.1 : 0.9);
+    double damage = 0, history = 0;
+    Type4Data d;
+    d.fracturing = true;
+    d.residual = r;
+    d.damage = &damage;
+    d.damage_history = &history;
+    d.failure_stress = &sigma_f;
+    d.brittleness = &H;
+    const InPlaneTensor got = type4_damaged_stress(d, tau, g1, g2, 1.0, 0, 0, nullptr);
+    const double c = rankine_damage(largest, sigma_f, H);
+    ASSERT_NEAR(damage, c, 1e-12);
+    (c == 1.0 ? full : softening)++;
+    Eigen::Vector3d lambda = eig.eigenvalues();
+    for (int i = 0; i < 3; ++i)
+      if (lambda[i] > 0) lambda[i] *= 1.0 - (1.0 - r) * c;
+    const Eigen::Matrix3d want = eig.eigenvectors() * lambda.asDiagonal() * eig.eigenvectors().transpose();
+    EXPECT_LE((tensor(got, g1, g2) - want).norm(), 1e-9 * T.norm()) << rep;
+  }
+  EXPECT_GT(full, 500);
+  EXPECT_GT(softening, 500);
+}
+
+// The lane kernel applies the same residual share as the scalar reference.
+TEST(Type4Batch, EqualsScalarWithAResidualStiffness) {
+  PointSet p(nurbs::flat_patch(1.0, 1.0, 4, 4), 7);
+  deform(p, kStretched, 8);
+  const double fractions[kType4Lanes] = {2.0, 0.9, 0.7, 0.5, 0.3, 0.2, 0.1, 0.05};
+  for (int i = 0; i < kType4Lanes; ++i) {
+    p.sigma_f[static_cast<size_t>(i)] = fractions[i] * 1e5;
+    p.H[static_cast<size_t>(i)] = 0.5 + 0.3 * i;
+  }
+  Type4Data d = elastic();
+  d.fracturing = true;
+  d.residual = 0.01;
+  const Outcome batched = run_batched(p, d), scalar = run_scalar(p, d);
+  EXPECT_LE(mismatch(batched, scalar), 1e-12);
+  Type4Data thesis = d;
+  thesis.residual = 0;
+  EXPECT_GT(mismatch(run_scalar(p, thesis), scalar), 1e-6);  // the residual changes the forces
+}
+
 }  // namespace
 }  // namespace shellfrac::shell
