@@ -68,16 +68,21 @@ Model build(const Scene& input) {
   m.gravity = detail::vec3_or(scene.gravity, {0.0, -9.81, 0.0});
   m.damping = scene.damping.value_or(0.0);
   m.grid.dx = scene.grid.dx;
-  // PIC stays the default. "adaptive" (energy-conserving affine-FLIP on intact elastic material, APIC where
-  // damage, plastic flow, cracks or seams act) meets issue 15's vibration criteria but changed 13 tests of
-  // drapes, seams and tearing cloth (docs/shell-model.md, "Transfer").
-  const std::string transfer = scene.grid.transfer.value_or("pic");
+  // "adaptive" is the default: energy-conserving affine-FLIP on intact elastic material, APIC where damage,
+  // plastic flow, cracks or seams act, and PIC on shells that can crack unless cracking_shells says
+  // "adaptive" (crack tips and fully damaged flaps, docs/shell-model.md, "Transfer").
+  const std::string transfer = scene.grid.transfer.value_or("adaptive");
   m.grid.apic = transfer == "apic" || transfer == "aflip" || transfer == "adaptive";
   if (transfer == "flip" || transfer == "aflip") m.grid.flip = scene.grid.flip_ratio.value_or(model::kDefaultFlipRatio);
   if (transfer == "adaptive") {
     m.grid.adaptive = true;
     m.grid.flip = scene.grid.flip_ratio.value_or(model::kDefaultIntactFlipRatio);
     m.grid.flip_active = scene.grid.flip_ratio_active.value_or(model::kDefaultActiveFlipRatio);
+    m.grid.adaptive_cracking = scene.grid.cracking_shells.value_or("pic") == "adaptive";
+    // Every shell can crack: the whole scene is PIC, exactly as "transfer": "pic".
+    bool any = false;
+    for (const model::Shell& s : m.shells) any = any || m.grid.adaptive_shell(s);
+    if (!any) m.grid = model::GridSettings{m.grid.dx};
   }
   m.cracks = build_cracks(scene.cracks);
   for (size_t i = 0; i < scene.solids.size(); ++i) {

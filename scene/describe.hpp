@@ -597,6 +597,12 @@ void describe(V& v, Grid& g) {
                ? "\"flip_ratio_active\" needs \"transfer\": \"adaptive\""
                : "";
   });
+  v.choice("cracking_shells", g.cracking_shells, {"pic", "adaptive"});
+  v.check("cracking_shells", [&] {
+    return g.cracking_shells && g.transfer && *g.transfer != "adaptive"
+               ? "\"cracking_shells\" needs \"transfer\": \"adaptive\""
+               : "";
+  });
 }
 
 template <class V>

@@ -83,6 +83,8 @@ struct Shell {
   std::vector<Cut> cuts;
   // Per control point, added to initial_velocity ("initial_velocity_field"); empty when not given.
   std::vector<Eigen::Vector3d> initial_velocity_field;
+  // A fracture material or prescribed cuts: the shell can carry cracks.
+  bool can_crack() const { return material.fracture.enabled || !cuts.empty(); }
 };
 
 // A piecewise-linear factor of time through keyframes (t, factor), constant before the first and after
@@ -180,6 +182,11 @@ struct GridSettings {
   // `flip_active` the share next to damage, plastic flow or a crack, chosen per particle every step.
   bool adaptive = false;
   double flip_active = 0.0;
+  // Adaptive transfer only: shells that can crack (Shell::can_crack) run it too instead of PIC
+  // (grid.cracking_shells "adaptive"; docs/shell-model.md, "Transfer").
+  bool adaptive_cracking = false;
+  // Adaptive transfer only: whether shell i runs it (false: PIC for that shell's particles).
+  bool adaptive_shell(const Shell& s) const { return adaptive && (adaptive_cracking || !s.can_crack()); }
 };
 
 struct ColliderSpec {

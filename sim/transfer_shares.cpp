@@ -18,6 +18,9 @@ void TransferShares::attach(World& world, const scene::Model& model) {
     for (const auto* rows : {&c.leader_row1, &c.leader_row2, &spec.leader_neighbours}) mark(c.leader_patch, *rows);
     for (const auto* rows : {&c.follower_row1, &c.follower_row2, &spec.follower_neighbours}) mark(c.follower_patch, *rows);
   }
+  pic_shell_.assign(world.num_shells(), 0);
+  for (size_t i = 0; i < world.num_shells() && i < model.shells.size(); ++i)
+    pic_shell_[i] = !model.grid.adaptive_shell(model.shells[i]);
   control_.resize(world.num_shells());
   shear_.resize(world.num_shells());
   solid_.resize(world.num_solids());
@@ -38,6 +41,7 @@ void TransferShares::attach(World& world, const scene::Model& model) {
 void TransferShares::update(const World& world, double intact, double active) {
   for (size_t i = 0; i < world.num_shells(); ++i) {
     const shell::ShellPatch& patch = world.shell(i);
+    if (pic_shell_[i]) continue;  // shares stay 0, and the shell has no affine velocity: PIC
     const size_t layers = static_cast<size_t>(patch.num_layers());
     const std::vector<double>& damage = patch.damage_values();
     const std::vector<double>& plastic = patch.plastic_strain_values();

@@ -13,6 +13,9 @@
 //    Eq. 4.10), their velocity only carries their mass to the grid, and a FLIP share would let it drift away
 //    from the motion it stands for (a clamped plate's support reaction was then 1.3% off its weight).
 //  - Solid particles (Type I) take `active`: their Neo-Hookean bulk has no thin-shell bending to keep.
+//  - A shell that can crack (fracture material or cuts) runs PIC unless grid.cracking_shells is "adaptive":
+//    share 0 and no affine velocity (World). Opened crack tips and fully damaged flaps keep motion there
+//    that PIC averages away (docs/shell-model.md, "Transfer").
 // The shares differ between particles, so the grid's g2p restores exact linear momentum (mpm/sparse_grid.cpp).
 #include <vector>
 
@@ -29,6 +32,7 @@ class TransferShares {
 
  private:
   std::vector<std::vector<double>> control_, shear_, solid_;
+  std::vector<unsigned char> pic_shell_;  // per shell: can crack, runs PIC (GridSettings::adaptive_shell)
   std::vector<std::vector<unsigned char>> seam_held_;  // per shell and control point: set by a seam
   std::vector<unsigned char> cell_active_;  // scratch, per cell of the shell being updated
 };

@@ -24,7 +24,7 @@ shell::ShellMaterial shell_material(const scene::model::Shell& s, const scene::m
   m.fracture.fracture_energy = s.material.fracture.fracture_energy;
   m.fracture.rule = s.material.fracture.rule;
   m.fracture.residual_stiffness = s.material.fracture.residual_stiffness;
-  if (grid.adaptive) m.shear_mass_share = scene::model::kAdaptiveShearMassShare;
+  if (grid.adaptive_shell(s)) m.shear_mass_share = scene::model::kAdaptiveShearMassShare;
   return m;
 }
 
@@ -56,8 +56,11 @@ World::World(const scene::Model& model) {
     }
     initial_positions_.push_back(patches_.back().x);
     transfer_mass_.push_back(patches_.back().mass);
-    affine_.emplace_back(model.grid.apic ? patches_.back().x.size() : 0, Eigen::Matrix3d::Zero());
-    const bool flip = model.grid.adaptive || model.grid.flip > 0;
+    // A shell that can crack runs PIC under the adaptive transfer (unless grid.cracking_shells says
+    // otherwise): no affine velocity and no FLIP part.
+    const bool pic_shell = model.grid.adaptive && !model.grid.adaptive_shell(s);
+    affine_.emplace_back(model.grid.apic && !pic_shell ? patches_.back().x.size() : 0, Eigen::Matrix3d::Zero());
+    const bool flip = model.grid.adaptive ? !pic_shell : model.grid.flip > 0;
     flip_part_.emplace_back(flip ? patches_.back().x.size() : 0, Eigen::Vector3d::Zero());
     shell_names_.push_back(s.name);
   }

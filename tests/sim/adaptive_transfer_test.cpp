@@ -23,12 +23,14 @@ std::string half_cut_sheet(const std::string& grid) {
       "cuts": [{"points": [[0.5, 0.0], [0.5, 0.5]]}]}]})";
 }
 
-const char* kAdaptive = R"("grid": {"transfer": "adaptive"},)";
+// The cut sheet can crack, so the adaptive transfer runs it only with cracking_shells "adaptive".
+const char* kAdaptive = R"("grid": {"transfer": "adaptive", "cracking_shells": "adaptive"},)";
 
 TEST(AdaptiveTransfer, ShareOneOnIntactAndZeroBesideTheCut) {
   const scene::Model model = scene::build_model(half_cut_sheet(kAdaptive), "cut.json");
   EXPECT_TRUE(model.grid.adaptive);
-  EXPECT_FALSE(scene::build_model(half_cut_sheet(""), "cut.json").grid.adaptive);  // PIC stays the default
+  // By default a shell that can crack runs PIC; with no other shell the whole scene is PIC.
+  EXPECT_FALSE(scene::build_model(half_cut_sheet(""), "cut.json").grid.adaptive);
   EXPECT_TRUE(model.grid.apic);
   EXPECT_EQ(model.grid.flip, 1.0);
   EXPECT_EQ(model.grid.flip_active, 0.0);
@@ -54,6 +56,41 @@ TEST(AdaptiveTransfer, ShareOneOnIntactAndZeroBesideTheCut) {
   EXPECT_GT(active, 0u);
   EXPECT_LT(active, expect.size() / 2);
   EXPECT_GT(far_intact, 0u);
+}
+
+// The default transfer is adaptive; a shell that can crack (here: a prescribed cut) runs PIC beside an intact
+// shell that runs affine-FLIP: shares 0, no affine velocity and no FLIP part, and its shear particles keep
+// half of the cell mass as under PIC.
+TEST(AdaptiveTransfer, ByDefaultAShellThatCanCrackRunsPic) {
+  const scene::Model model = scene::build_model(R"({"name": "two", "gravity": [0, -9.81, 0],
+    "shells": [{"name": "intact", "patch": {"type": "flat", "size": [0.4, 0.2], "cells": [8, 4]},
+                "thickness": 0.001, "material": {"E": 1e5, "nu": 0.3, "density": 200}},
+               {"name": "cut", "patch": {"type": "flat", "size": [0.4, 0.2], "cells": [8, 4], "origin": [0, 0, 0.5]},
+                "thickness": 0.001, "material": {"E": 1e5, "nu": 0.3, "density": 200},
+                "cuts": [{"points": [[0.5, 0.0], [0.5, 0.5]]}]}]})", "two.json");
+  EXPECT_TRUE(model.grid.adaptive);
+  EXPECT_TRUE(model.grid.adaptive_shell(model.shells[0]));
+  EXPECT_FALSE(model.grid.adaptive_shell(model.shells[1]));
+  Simulation sim(model);
+  for (int s = 0; s < 5; ++s) sim.step(0.5 * sim.stable_dt());
+  const World& w = sim.world();
+  const mpm::ParticleSet& intact = w.particle_sets()[w.control_set(0)];
+  const mpm::ParticleSet& cut = w.particle_sets()[w.control_set(1)];
+  for (size_t k = 0; k < intact.count; ++k) EXPECT_EQ(intact.flip_share[k], 1.0);
+  for (size_t k = 0; k < cut.count; ++k) EXPECT_EQ(cut.flip_share[k], 0.0);
+  EXPECT_NE(intact.affine, nullptr);
+  EXPECT_EQ(cut.affine, nullptr);
+  EXPECT_EQ(cut.flip_part, nullptr);
+  // Shear particles: 0.2 of the cell mass on the adaptive shell, 0.5 (PIC's) on the other.
+  auto shear_share = [&](size_t i) {
+    const shell::ShellPatch& p = w.shell(i);
+    double shear = 0, total = 0;
+    for (double m : p.shear.mass) shear += m;
+    for (double m : p.mass) total += m;
+    return shear / (shear + total);
+  };
+  EXPECT_NEAR(shear_share(0), 0.2, 1e-12);
+  EXPECT_NEAR(shear_share(1), 0.5, 1e-12);
 }
 
 TEST(AdaptiveTransfer, ElasticSheetWithoutCracksRunsItsControlPointsAsAffineFlip) {
@@ -124,9 +161,12 @@ TEST(AdaptiveTransfer, DrapeOverABallGainsNoEnergy) {
 
 TEST(AdaptiveTransfer, ShareKeysAreCheckedAndReachTheModel) {
   const scene::Model m = scene::build_model(
-      half_cut_sheet(R"("grid": {"transfer": "adaptive", "flip_ratio": 0.995, "flip_ratio_active": 0.5},)"), "c.json");
+      half_cut_sheet(R"("grid": {"transfer": "adaptive", "flip_ratio": 0.995, "flip_ratio_active": 0.5,
+                                  "cracking_shells": "adaptive"},)"),
+      "c.json");
   EXPECT_EQ(m.grid.flip, 0.995);
   EXPECT_EQ(m.grid.flip_active, 0.5);
+  EXPECT_TRUE(m.grid.adaptive_cracking);
   const scene::Model pic = scene::build_model(half_cut_sheet(R"("grid": {"transfer": "pic"},)"), "c.json");
   EXPECT_FALSE(pic.grid.adaptive);
   EXPECT_EQ(pic.grid.flip, 0.0);
@@ -135,6 +175,12 @@ TEST(AdaptiveTransfer, ShareKeysAreCheckedAndReachTheModel) {
     FAIL() << "accepted";
   } catch (const scene::SceneError& e) {
     EXPECT_EQ(e.json_path(), "/grid/flip_ratio_active");
+  }
+  try {
+    scene::build_model(half_cut_sheet(R"("grid": {"transfer": "pic", "cracking_shells": "adaptive"},)"), "c.json");
+    FAIL() << "accepted";
+  } catch (const scene::SceneError& e) {
+    EXPECT_EQ(e.json_path(), "/grid/cracking_shells");
   }
 }
 
