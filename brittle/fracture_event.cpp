@@ -29,6 +29,7 @@ FractureEvent fracture_event(const BrittleSolid& solid, const TriMesh& domain, c
       // The sheets between intact parts, split further along the valleys of the damage time.
       ev.crack = damage_time_crack(solid.rest, solid.damage, co, o.breakage.dynamics, {&ev.crack, &ev.regions});
       ev.regions = find_regions(ev.crack.diagram, ev.crack.crack_face);
+      split_regions_at_empty_cells(ev.crack.diagram, ev.crack.crack_face, ev.regions, solid.rest);
     }
     if (o.breakage.enabled && o.breakage.min_share > 0) {
       const int before = ev.regions.count;
