@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -79,6 +80,62 @@ void merge_small_regions(const VoronoiDiagram& d, Regions& r, const std::vector<
     c = id;
   }
   r.count = next;
+}
+
+int split_regions_at_empty_cells(const VoronoiDiagram& d, const std::vector<char>& crack_face, Regions& r,
+                                 const std::vector<Vec3>& points) {
+  const size_t n = d.num_cells();
+  if (n == 0 || points.empty()) return 0;
+  std::vector<char> held(n, 0);
+  const SiteLocator locate(d);
+  for (const Vec3& x : points) {
+    const int c = locate.cell_of(x);
+    if (c >= 0) held[static_cast<size_t>(c)] = 1;
+  }
+  std::vector<int> part(n, -1);
+  int parts = 0;
+  std::deque<int> queue;
+  // Breadth-first search from the queued cells through non-crack faces to unlabelled cells (only cells
+  // holding points when `held_only`), each new cell taking the label of the cell it was reached from.
+  auto flood = [&](bool held_only) {
+    while (!queue.empty()) {
+      const int c = queue.front();
+      queue.pop_front();
+      for (int f : d.cell_faces[static_cast<size_t>(c)]) {
+        if (crack_face[static_cast<size_t>(f)]) continue;
+        const int o = d.other(f, c);
+        if (o < 0 || part[static_cast<size_t>(o)] >= 0 || (held_only && !held[static_cast<size_t>(o)])) continue;
+        part[static_cast<size_t>(o)] = part[static_cast<size_t>(c)];
+        queue.push_back(o);
+      }
+    }
+  };
+  for (size_t c = 0; c < n; ++c)
+    if (held[c] && part[c] < 0) {
+      part[c] = parts++;
+      queue.push_back(static_cast<int>(c));
+      flood(true);
+    }
+  for (size_t c = 0; c < n; ++c)
+    if (part[c] >= 0) queue.push_back(static_cast<int>(c));
+  flood(false);
+  for (size_t c = 0; c < n; ++c)
+    if (part[c] < 0) {  // a region without points
+      part[c] = parts++;
+      queue.push_back(static_cast<int>(c));
+      flood(false);
+    }
+  // Renumber by lowest cell.
+  std::vector<int> renumber(static_cast<size_t>(parts), -1);
+  int next = 0;
+  for (size_t c = 0; c < n; ++c) {
+    int& id = renumber[static_cast<size_t>(part[c])];
+    if (id < 0) id = next++;
+    r.cell_region[c] = id;
+  }
+  const int added = next - r.count;
+  r.count = next;
+  return added;
 }
 
 CrackExtraction damage_time_crack(const std::vector<Vec3>& rest, const std::vector<ParticleDamage>& damage,

@@ -40,6 +40,18 @@ struct SheetRegions {
 CrackExtraction damage_time_crack(const std::vector<Vec3>& rest, const std::vector<ParticleDamage>& damage,
                                   const CrackExtractionOptions& options, double dynamics, SheetRegions sheets = {});
 
+// A region of the damage-time diagram is connected through its cells, but the cells of the sites
+// outside the object (the kernel's rim around it, the container) can join parts that are apart inside
+// the object: a basin reaching round another's crack sheet through the rim nodes. Its cut (region n
+// object, thesis sec. 3.5) then falls apart, and a small part escapes the min_share merge, which sees
+// only the whole region. So each region is split into the sets of its cells that hold points (particles,
+// nearest site) and are connected through non-crack faces among themselves; a cell without points joins
+// the set that reaches it first in a breadth-first search inside the region (cells in index order), and
+// a region without points stays as it is. Regions are renumbered by lowest cell. Returns the number of
+// regions added.
+int split_regions_at_empty_cells(const VoronoiDiagram& diagram, const std::vector<char>& crack_face, Regions& regions,
+                                 const std::vector<Vec3>& points);
+
 // Regions holding fewer than min_share of the points are merged, smallest first, into the neighbouring
 // region they share the largest face area with (a piece under the resolvable size stays with its
 // neighbour instead of being counted as a sliver). Regions are renumbered 0..count-1 by lowest cell.

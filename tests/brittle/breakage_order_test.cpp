@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numeric>
@@ -119,6 +120,42 @@ TEST(Breakage, RegionsUnderTheMinimumShareJoinTheirNeighbour) {
   const std::vector<size_t> per1 = points_per_region(ce.diagram, merged, box.x);
   EXPECT_EQ(merged.count, 1);
   EXPECT_EQ(std::accumulate(per1.begin(), per1.end(), size_t{0}), box.x.size());
+}
+
+// Five cells in a row (sites at x = 0..4), no crack face: one region. With points only in cells 0, 1, 3
+// and 4 the region's material parts (0-1 and 3-4) are joined only through the empty cell 2, as a basin of
+// the damage time reaching round a crack sheet through the rim outside the object: it is split in two,
+// the empty cell going to the part that reaches it first (0-1). Points in every cell, or a crack face
+// between cells 1 and 2 (two regions already), leave the regions as they were; a region without points
+// stays whole.
+TEST(Breakage, RegionsSplitWhereOnlyEmptyCellsJoinThem) {
+  std::vector<Vec3> sites;
+  for (int i = 0; i < 5; ++i) sites.emplace_back(i, 0.5, 0.5);
+  const VoronoiDiagram d = compute_voronoi(sites, Vec3(-0.5, 0, 0), Vec3(4.5, 1, 1));
+  std::vector<char> no_crack(d.faces.size(), 0);
+  const std::vector<Vec3> ends = {{0, 0.5, 0.5}, {1.1, 0.4, 0.5}, {2.9, 0.5, 0.6}, {4, 0.5, 0.5}};
+  Regions r = find_regions(d, no_crack);
+  ASSERT_EQ(r.count, 1);
+  EXPECT_EQ(split_regions_at_empty_cells(d, no_crack, r, ends), 1);
+  ASSERT_EQ(r.count, 2);
+  EXPECT_EQ(r.cell_region, (std::vector<int>{0, 0, 0, 1, 1}));
+
+  Regions full = find_regions(d, no_crack);
+  EXPECT_EQ(split_regions_at_empty_cells(d, no_crack, full, sites), 0);
+  EXPECT_EQ(full.cell_region, (std::vector<int>{0, 0, 0, 0, 0}));
+
+  std::vector<char> cut = no_crack;  // the face between cells 1 and 2
+  for (size_t f = 0; f < d.faces.size(); ++f)
+    if (!d.faces[f].wall() && std::min(d.faces[f].cell_a, d.faces[f].cell_b) == 1 && std::max(d.faces[f].cell_a, d.faces[f].cell_b) == 2)
+      cut[f] = 1;
+  Regions two = find_regions(d, cut);
+  ASSERT_EQ(two.count, 2);
+  EXPECT_EQ(split_regions_at_empty_cells(d, cut, two, ends), 0);
+  EXPECT_EQ(two.cell_region, (std::vector<int>{0, 0, 1, 1, 1}));
+
+  Regions none = find_regions(d, no_crack);
+  EXPECT_EQ(split_regions_at_empty_cells(d, no_crack, none, {}), 0);
+  EXPECT_EQ(none.count, 1);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -100,30 +101,46 @@ TEST(BrittleCli, NotchedBeamBreaksInTwoAtTheNotch) {
   fs::remove_all(d);
 }
 
-// Four shapes dropped on the ground at 4 m/s, the crack following the damage time (breakage_order).
-// Physics bounds: no shape is pulverised at this speed and strength (at most 12 counted pieces each) and
-// the impacts break every shape (box, cylinder, torus: at least 2 pieces each). The sphere's damage is a
-// volume without intact structure around its axis (51 % broken at 10 ms); its medial surface cuts nothing
-// (1 piece before the damage-time ordering), its damage-time valleys give at least 3 pieces, each at
-// least 1 % of the sphere, and no sliver. Measured 3 / 2 / 2 / 3; a total of at least 10 is a regression
-// check on these counts.
+// Share of the solid's input volume held by each fragment (largest first, as listed).
+std::vector<double> volume_shares(const Json& solid) {
+  std::vector<double> shares;
+  for (const Json& f : solid["fragments"]) shares.push_back(f["volume"].get<double>() / solid["input_volume"].get<double>());
+  return shares;
+}
+
+size_t pieces_of_at_least(const std::vector<double>& shares, double share) {
+  return static_cast<size_t>(std::count_if(shares.begin(), shares.end(), [&](double s) { return s >= share; }));
+}
+
+// Four shapes dropped on the ground at 4 m/s (thesis Fig. 3.29), a brittle material (fracture energy 15
+// J/m^2: Irwin length E G_f / sigma_f^2 = 1.3 cm, 1.7 cells), run through the impact to 10 ms, the crack
+// following the damage time (breakage_order). Every shape shatters: at least 4 pieces, every counted
+// piece at least 1 % of its shape's volume, no sliver. Physics bound: at most 12 counted pieces each (no
+// shape is pulverised at this speed). Measured: 8 / 10 / 7 / 10 (sphere / box / cylinder / torus), 35 in
+// all, the smallest 1.3 / 1.4 / 2.1 / 3.3 % (before issue 16's follow-up: 3 / 2 / 2 / 3; the box had two
+// more pieces of 0.9 and 0.7 % before the merge was checked on the cut volumes, the torus a chip of 0.2 %
+// before regions were split at cells without particles). The totals of at least 30 and of at least 5
+// pieces for the sphere and box are regression checks just below those values.
 TEST(BrittleCli, ShapesDropShatterEveryShape) {
   const fs::path d = scratch("shapes");
   const Json s = run_scene("shapes-drop", d);
   ASSERT_EQ(s["brittle"].size(), 4u);
   size_t total = 0;
   for (const Json& solid : s["brittle"]) {
+    SCOPED_TRACE(solid["solid"].get<std::string>());
     check_event(solid, d, 2400);
     const size_t n = solid["fragment_count"].get<size_t>();
     total += n;
-    EXPECT_GE(n, solid["solid"] == "sphere" ? 3u : 2u) << solid["solid"];
-    EXPECT_LE(n, 12u) << solid["solid"];
-    if (solid["solid"] != "sphere") continue;
+    const std::vector<double> shares = volume_shares(solid);
     EXPECT_EQ(solid["slivers"]["count"].get<size_t>(), 0u);
-    for (const Json& f : solid["fragments"])
-      EXPECT_GE(f["volume"].get<double>(), 0.01 * solid["input_volume"].get<double>()) << f["name"];
+    EXPECT_GE(n, 4u);
+    EXPECT_EQ(pieces_of_at_least(shares, 0.01), n);  // every counted piece (and no sliver) >= 1 %
+    EXPECT_LE(n, 12u);
+    if (solid["solid"] == "sphere" || solid["solid"] == "box") {
+      EXPECT_GE(pieces_of_at_least(shares, 0.01), 5u);  // regression check
+    }
   }
-  EXPECT_GE(total, 10u);
+  EXPECT_GE(total, 30u);  // regression check (measured 35)
   fs::remove_all(d);
 }
 
@@ -266,6 +283,42 @@ TEST(BrittleCli, SpotImpactShortRunWritesAConservingEvent) {
   const Json& spot = s["brittle"][0];
   check_event(spot, d / "out", 1800);
   EXPECT_EQ(spot["stop_reason"], "max_time");
+  fs::remove_all(d);
+}
+
+// spot-impact, the scanned cow struck on its flank by a 70 g steel ball at 86 m/s (impulse 12 N s, Hertz
+// contact time), with the crack following the damage time, in a copy cut to 8 ms (the shipped scene runs
+// to 15 ms in about 20 s; the pieces are the same at 8, 10 and 15 ms: 50.9 / 32.4 / 14.7 / 2.0-2.1 %).
+// It must come apart in a substantial break: at least 2 pieces of at least 5 % of its volume each, the
+// largest at most 90 %, one of them at the head end (centroid z < -0.02 m; the mesh spans z -0.134..0.21
+// m, the head at -z) and one at the hind end (centroid z > 0.05 m), volumes and masses summing to the
+// input's to 1e-9, no sliver. Measured at 8 ms: 4 pieces 50.9 / 32.4 / 14.7 / 2.0 % (hind body, head
+// and neck with centroid z -0.051 m, chest and front legs, a chip), 49.9 % of the particles broken;
+// before (impulse 6 N s from a 5 m/s ball, stop at 30 % broken, no breakage order): 1 piece. "At least
+// 3 pieces of >= 10 %" is a regression check below the measured 3.
+TEST(BrittleCli, SpotImpactKnocksTheHeadOff) {
+  const fs::path d = scratch("spot-break");
+  const Result r = shellfrac("run " + shortened_scene("spot-impact", 0.008, d).string() + " --out " + (d / "out").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(d / "out" / "summary.json");
+  const Json s = Json::parse(in);
+  ASSERT_EQ(s["brittle"].size(), 1u);
+  const Json& spot = s["brittle"][0];
+  check_event(spot, d / "out", 1800);
+  const std::vector<double> shares = volume_shares(spot);
+  EXPECT_GE(pieces_of_at_least(shares, 0.05), 2u);
+  EXPECT_GE(pieces_of_at_least(shares, 0.10), 3u);  // regression check
+  ASSERT_FALSE(shares.empty());
+  EXPECT_LE(shares.front(), 0.9);
+  bool head = false, hind = false;
+  for (const Json& f : spot["fragments"]) {
+    if (f["volume"].get<double>() < 0.05 * spot["input_volume"].get<double>()) continue;
+    head = head || f["centroid"][2].get<double>() < -0.02;
+    hind = hind || f["centroid"][2].get<double>() > 0.05;
+  }
+  EXPECT_TRUE(head);
+  EXPECT_TRUE(hind);
+  EXPECT_EQ(spot["slivers"]["count"].get<size_t>(), 0u);
   fs::remove_all(d);
 }
 
