@@ -235,6 +235,20 @@ std::vector<StabilityCase> stability_cases(bool full, const RunLimits& limits) {
     }
   };
 
+  // The bench scenes fix "pic"; the adaptive transfer (the product's default, which runs shells that can
+  // crack on PIC unless cracking_shells says otherwise) and APIC beside it.
+  auto add_transfer_variants = [&](const StabilityCase& base, bool can_crack) {
+    for (const std::string transfer : {"adaptive", "apic"}) {
+      StabilityCase c = base;
+      c.variant = "transfer " + transfer;
+      c.definition.grid.transfer = transfer;
+      if (can_crack && transfer == "adaptive") {
+        c.definition.grid.cracking_shells = std::string("adaptive");
+        c.variant += ", cracking too";
+      }
+      cases.push_back(c);
+    }
+  };
   // Tearing: the mode-I tear (16 x 16 cells, torn through by 1.2 s); tiny: 12 x 12 cells for 0.05 s, long
   // before the tear, so no fragments are expected.
   StabilityCase tear;
@@ -256,6 +270,7 @@ std::vector<StabilityCase> stability_cases(bool full, const RunLimits& limits) {
     c.definition.cracks.phantom_nodes = false;
     cases.push_back(c);
   }
+  add_transfer_variants(tear, true);
   add_dt_variants(tear);
 
   // Draping: the two-patch cloth coupled C1 on a ball (8 cells along the seam on the coarse side).
@@ -283,6 +298,7 @@ std::vector<StabilityCase> stability_cases(bool full, const RunLimits& limits) {
     c.definition.interfaces[0].closure = std::string("least_squares");
     cases.push_back(c);
   }
+  add_transfer_variants(drape, false);
   add_dt_variants(drape);
   return cases;
 }
