@@ -14,6 +14,8 @@ constexpr double kPi = 3.14159265358979323846;
 void CrackPortals::build(const CrackIndex& index, double offset) {
   points_.clear();
   ahead_.clear();
+  tips_.clear();
+  tip_portals_.clear();
   segments_ = index.num_segments();
   // Directions of the segments leaving each vertex; ends with identical coordinates are one vertex.
   std::map<std::pair<double, double>, std::vector<double>> leaving;
@@ -42,6 +44,10 @@ void CrackPortals::build(const CrackIndex& index, double offset) {
       const Point dir(std::cos(mid), std::sin(mid));
       const Point p = v + offset * dir;
       if (!box_contains(domain, p)) continue;
+      if (n == 1) {  // a free tip
+        tips_.push_back(v);
+        tip_portals_.push_back(points_.size());
+      }
       points_.push_back(p);
       ahead_.push_back(dir);
     }

@@ -26,10 +26,16 @@ class CrackPortals {
   // direction continued). The half-plane it points into is "ahead" of the corner.
   const std::vector<Point>& ahead() const { return ahead_; }
   size_t size() const { return points_.size(); }
+  // Free crack tips (vertices with one segment) whose portal lies in the domain: the tip vertex and the
+  // index of its portal in points(). Used by the diffraction weights (docs/mls.md, "Tip weights").
+  const std::vector<Point>& tips() const { return tips_; }
+  const std::vector<size_t>& tip_portals() const { return tip_portals_; }
   size_t built_for_segments() const { return segments_; }  // num_segments() of the index at build time
 
  private:
   std::vector<Point> points_, ahead_;
+  std::vector<Point> tips_;
+  std::vector<size_t> tip_portals_;
   size_t segments_ = 0;
 };
 

@@ -612,6 +612,7 @@ void describe(V& v, Cracks& c) {
   v.number("contact_friction", c.contact_friction, Range::non_negative());
   v.number("max_support", c.max_support, Range::closed(1.5, 10.0));
   v.number("shadow_offset", c.shadow_offset, Range::open(0.0, 0.01));
+  v.choice("tip_weights", c.tip_weights, {"visibility", "diffraction"});
 }
 
 template <class V>

@@ -255,6 +255,9 @@ struct CrackSettings {
   double contact_friction = 0.3;   // Coulomb coefficient between fragments (Eq. 4.25)
   double max_support = 4.5;        // MLS support cap in cells (sec. 4.6)
   double shadow_offset = 1e-5;     // render-mesh shadow vertex offset Dv (sec. 4.9.3)
+  // Weights of control points hidden behind a crack near its tip: false = visibility (thesis sec. 4.6),
+  // true = diffraction (docs/mls.md, "Tip weights").
+  bool tip_diffraction = false;
 };
 
 struct TimeSettings {

@@ -342,6 +342,7 @@ struct Cracks {
   Opt<int> extraction_interval;
   Opt<bool> phantom_nodes;
   Opt<double> contact_friction, max_support, shadow_offset;
+  Opt<std::string> tip_weights;  // "visibility" or "diffraction"
 };
 
 struct Scene {

@@ -75,20 +75,63 @@ PointFit fit_point_basis(const Eigen::Vector2d& xi_in, const ControlGrid& grid, 
     return fit;
   };
 
+  // Levels 1-3 see control points in straight lines; with diffraction tip weights also those hidden behind
+  // a crack that a straight line around one free tip reaches (docs/mls.md, "Tip weights").
+  const bool diffraction = s.mls.tip.mode == TipWeights::Mode::diffraction;
+  // Tips that can matter: a control point seen around a tip farther than kTipBox supports (infinity norm,
+  // cells / factor) gets weight 0 (docs/mls.md), so the basis depends on cracks within kTipBox * factor.
+  constexpr double kTipBox = 1.5;
+  std::vector<size_t>& tips = work.tips;
+  tips.clear();
+  if (diffraction) {
+    const double hu = kTipBox * s.mls.max_factor * grid.cell_u, hv = kTipBox * s.mls.max_factor * grid.cell_v;
+    for (size_t t = 0; t < portals.tips().size(); ++t) {
+      const Eigen::Vector2d& c = portals.tips()[t];
+      if (std::abs(c.x() - xi.x()) > hu || std::abs(c.y() - xi.y()) > hv) continue;
+      if (index.crosses(xi, portals.points()[portals.tip_portals()[t]])) continue;  // the tip is not in sight
+      tips.push_back(t);
+    }
+  }
+  const double lu = grid.cell_u, lv = grid.cell_v;
+  auto sight = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& c) {
+    Sight out;
+    if (!index.crosses(a, c)) {
+      out.kind = Sight::Kind::direct;
+      return out;
+    }
+    // The shortest way around one tip (cell units); a hop to the tip runs to its portal, 1e-7 cells beyond.
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t t : tips) {
+      const Eigen::Vector2d& tip = portals.tips()[t];
+      const double way = std::hypot((tip.x() - a.x()) / lu, (tip.y() - a.y()) / lv) +
+                         std::hypot((c.x() - tip.x()) / lu, (c.y() - tip.y()) / lv);
+      if (!(way < best)) continue;
+      if (index.crosses(portals.points()[portals.tip_portals()[t]], c)) continue;
+      best = way;
+      out.kind = Sight::Kind::around_tip;
+      out.tip = tip;
+    }
+    return out;
+  };
+  auto fit_mls = [&](const MlsSettings& settings) {
+    return diffraction ? mls_basis_with_sight(xi, grid, sight, settings, b) : mls_basis(xi, grid, visible, settings, b);
+  };
+  const double reach_scale = diffraction ? kTipBox : 1.0;
+
   // 1. The thesis's quadratic fit over the control points seen in straight lines (sec. 4.6).
-  if (mls_basis(xi, grid, visible, s.mls, b)) return done(BasisLevel::Quadratic, 2, b.factor);
+  if (fit_mls(s.mls)) return done(BasisLevel::Quadratic, 2, b.factor * reach_scale);
   fit.reason = b.reason;
   // 2. Relaxed: the quadratic basis size and a moment matrix merely far from singular.
   MlsSettings relaxed = s.mls;
   relaxed.min_neighbours = s.relaxed_min_neighbours;
   relaxed.min_rcond = std::min(s.mls.min_rcond, s.relaxed_min_rcond);
-  if (mls_basis(xi, grid, visible, relaxed, b)) return done(BasisLevel::RelaxedQuadratic, 2, b.factor);
+  if (fit_mls(relaxed)) return done(BasisLevel::RelaxedQuadratic, 2, b.factor * reach_scale);
   // 3. Linear over the same straight-line supports: three points not in a line.
   MlsSettings linear = s.mls;
   linear.order = 1;
   linear.min_neighbours = 3;
   linear.min_rcond = s.linear_min_rcond;
-  if (mls_basis(xi, grid, visible, linear, b)) return done(BasisLevel::Linear, 1, b.factor);
+  if (fit_mls(linear)) return done(BasisLevel::Linear, 1, b.factor * reach_scale);
 
   // 4. The own fragment along crack-free paths: first forward ones (bending only ahead of a crack corner
   // and by at most 90 degrees in all: never reaching behind a crack), then any path over a longer reach.

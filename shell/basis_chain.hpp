@@ -8,6 +8,7 @@
 // A point lying exactly on a crack line is first moved 1e-9 cells to the side that sees the most.
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 #include "crack2d/crack_index.hpp"
 #include "crack2d/crack_paths.hpp"
@@ -57,6 +58,7 @@ struct PointFit {
 struct BasisChainWork {
   MlsBasis basis;
   FragmentWork fragment;
+  std::vector<size_t> tips;  // free tips in sight of the point (diffraction tip weights)
 };
 
 // Runs the chain at xi. On return work.basis holds the result: R and its derivatives for levels

@@ -45,6 +45,87 @@ CubicWeight cubic_weight(double r) {
   return {0.0, 0.0, 0.0};
 }
 
+// Diffraction weight (Organ, Fleming, Terry, Belytschko 1996, Eq. for d_hat): with s0 = |e| (straight
+// distance), s2 = |r| (point to tip) and s1 (tip to control point), the ratio g = (s1 + s2) / s0 >= 1 says
+// how much longer the way around the tip is; d_hat = g^lambda s0. Here the scaled offset e is stretched by
+//   f = 1 + (g^lambda - 1) chi,   chi = s2^2 / (s2^2 + eps^2),
+// so both tensor-product factors see |f e_i| (d_hat / d = f when eps = 0). On the line through the control
+// point and the tip g = 1 and f = 1: the weight equals the weight it has from the visible side (continuity
+// across the crack's extension). chi fades the stretch out within ~eps of the tip: g - 1 grows like s2 there
+// and its second derivatives like 1 / s2; times chi ~ s2^2 / eps^2 the product is C^2 with bounded second
+// derivatives (f = 1 exactly at the tip). Derivatives with respect to y (the evaluation point), de/dy = -I:
+//   s0_a = -e_a / s0, s0_ab = (delta_ab - e_a e_b / s0^2) / s0,
+//   s2_a = r_a / s2,  s2_ab = (delta_ab - r_a r_b / s2^2) / s2,
+//   g_a = (s2_a - g s0_a) / s0,  g_ab = (s2_ab - g_a s0_b - g_b s0_a - g s0_ab) / s0   (from g s0 = s1 + s2),
+//   G = g^lambda - 1, G_a = lambda g^(lambda-1) g_a, G_ab = lambda (lambda-1) g^(lambda-2) g_a g_b + lambda g^(lambda-1) g_ab,
+//   chi_a = 2 eps^2 r_a / (q + eps^2)^2, chi_ab = 2 eps^2 delta_ab / (q + eps^2)^2 - 8 eps^2 r_a r_b / (q + eps^2)^3 (q = s2^2),
+//   f_a = G_a chi + G chi_a, f_ab = G_ab chi + G_a chi_b + G_b chi_a + G chi_ab,
+//   u_i = f e_i: u_i,a = f_a e_i - f delta_ia, u_i,ab = f_ab e_i - f_a delta_ib - f_b delta_ia,
+//   W = A(u_1) B(u_2) with A(u) = w(|u|) (Eq. 4.18): A' = w'(|u|) sign(u), A'' = w''(|u|).
+WeightDerivatives diffracted_weight(const Eigen::Vector2d& e, const Eigen::Vector2d& r, double s1, double lambda,
+                                    double eps) {
+  const double s0 = e.norm();
+  const double s2 = r.norm();
+  double f = 1.0;
+  Eigen::Vector2d fa = Eigen::Vector2d::Zero();
+  Eigen::Matrix2d fab = Eigen::Matrix2d::Zero();
+  if (s2 > 0.0 && s0 > 0.0) {  // at the tip itself f = 1 with zero derivatives (f - 1 = O(s2^3))
+    const Eigen::Matrix2d I = Eigen::Matrix2d::Identity();
+    const Eigen::Vector2d s0a = -e / s0;
+    const Eigen::Matrix2d s0ab = (I - e * e.transpose() / (s0 * s0)) / s0;
+    const Eigen::Vector2d s2a = r / s2;
+    const Eigen::Matrix2d s2ab = (I - r * r.transpose() / (s2 * s2)) / s2;
+    const double g = std::max(1.0, (s1 + s2) / s0);  // >= 1 by the triangle inequality; round-off only
+    const Eigen::Vector2d ga = (s2a - g * s0a) / s0;
+    const Eigen::Matrix2d gab = (s2ab - ga * s0a.transpose() - s0a * ga.transpose() - g * s0ab) / s0;
+    const double gl = std::pow(g, lambda);
+    const double G = gl - 1.0;
+    const Eigen::Vector2d Ga = lambda * (gl / g) * ga;
+    const Eigen::Matrix2d Gab = lambda * (lambda - 1.0) * (gl / (g * g)) * ga * ga.transpose() + lambda * (gl / g) * gab;
+    double chi = 1.0;
+    Eigen::Vector2d chia = Eigen::Vector2d::Zero();
+    Eigen::Matrix2d chiab = Eigen::Matrix2d::Zero();
+    if (eps > 0.0) {
+      const double q = s2 * s2, e2 = eps * eps, den = q + e2;
+      chi = q / den;
+      chia = (2.0 * e2 / (den * den)) * r;
+      chiab = (2.0 * e2 / (den * den)) * I - (8.0 * e2 / (den * den * den)) * r * r.transpose();
+    }
+    f = 1.0 + G * chi;
+    fa = Ga * chi + G * chia;
+    fab = Gab * chi + Ga * chia.transpose() + chia * Ga.transpose() + G * chiab;
+  }
+  const Eigen::Vector2d u = f * e;
+  // du_i / dy_a and d2u_i / dy_a dy_b
+  Eigen::Matrix2d ua;  // ua(i, a)
+  for (int i = 0; i < 2; ++i)
+    for (int a = 0; a < 2; ++a) ua(i, a) = fa(a) * e(i) - (i == a ? f : 0.0);
+  Eigen::Matrix2d uab[2];
+  for (int i = 0; i < 2; ++i)
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b)
+        uab[i](a, b) = fab(a, b) * e(i) - (i == b ? fa(a) : 0.0) - (i == a ? fa(b) : 0.0);
+  const CubicWeight A = cubic_weight(std::abs(u(0)));
+  const CubicWeight B = cubic_weight(std::abs(u(1)));
+  const double A1 = u(0) > 0.0 ? A.dw : -A.dw, B1 = u(1) > 0.0 ? B.dw : -B.dw;
+  WeightDerivatives D{};
+  D.stretch = f;
+  D.W = A.w * B.w;
+  if (!(D.W > 0.0)) return D;
+  double W1[2], W2[2][2];
+  for (int a = 0; a < 2; ++a) W1[a] = A1 * ua(0, a) * B.w + A.w * B1 * ua(1, a);
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b)
+      W2[a][b] = A.ddw * ua(0, a) * ua(0, b) * B.w + A1 * uab[0](a, b) * B.w + A1 * ua(0, a) * B1 * ua(1, b) +
+                 A1 * ua(0, b) * B1 * ua(1, a) + A.w * B.ddw * ua(1, a) * ua(1, b) + A.w * B1 * uab[1](a, b);
+  D.W1 = W1[0];
+  D.W2 = W1[1];
+  D.W11 = W2[0][0];
+  D.W12 = W2[0][1];
+  D.W22 = W2[1][1];
+  return D;
+}
+
 ControlGrid ControlGrid::from_surface(const nurbs::NurbsSurface& surface) {
   ControlGrid grid;
   const nurbs::KnotVector& ku = surface.knots_u();
@@ -104,6 +185,26 @@ MlsAttempt mls_evaluate(const Eigen::Vector2d& xi, double d_u, double d_v, const
   for (std::size_t c = 0; c < n; ++c) {
     const double e1 = (w.pu[c] - xi.x()) / d_u;  // local coordinate of the control point
     const double e2 = (w.pv[c] - xi.y()) / d_v;
+    if (c < w.tu.size() && !std::isnan(w.tu[c])) {  // seen around a crack tip (docs/mls.md, "Tip weights")
+      const Eigen::Vector2d e(e1, e2);
+      const Eigen::Vector2d r((xi.x() - w.tu[c]) / d_u, (xi.y() - w.tv[c]) / d_v);  // y - y_c
+      const double s1 = Eigen::Vector2d((w.pu[c] - w.tu[c]) / d_u, (w.pv[c] - w.tv[c]) / d_v).norm();
+      // The fade radius is given in cells; y = xi / d with d = factor * cell (out.factor is set by the caller).
+      const double eps = out.factor > 0.0 ? settings.tip.radius / out.factor : settings.tip.radius;
+      const WeightDerivatives D = diffracted_weight(e, r, s1, settings.tip.lambda, eps);
+      if (!(D.W > 0.0)) continue;
+      w.W[m] = D.W;
+      w.W1[m] = D.W1;
+      w.W2[m] = D.W2;
+      w.W11[m] = D.W11;
+      w.W12[m] = D.W12;
+      w.W22[m] = D.W22;
+      w.e1[m] = e1;
+      w.e2[m] = e2;
+      w.support[m] = w.index[c];
+      ++m;
+      continue;
+    }
     const CubicWeight a = cubic_weight(std::abs(e1));
     const CubicWeight b = cubic_weight(std::abs(e2));
     const double W = a.w * b.w;

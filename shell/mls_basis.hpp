@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,20 @@ class NurbsSurface;
 }
 
 namespace shellfrac::shell {
+
+// How a control point hidden behind a crack near one of its free tips is weighted (docs/mls.md, "Tip
+// weights"). visibility: not at all (thesis sec. 4.6). diffraction: the diffraction method of Organ,
+// Fleming, Terry and Belytschko (1996): the distance to it is lengthened by how much the way around the tip
+// is longer than the straight line, so its weight fades from the full weight (the line of sight grazes the
+// tip) to zero (far along the crack).
+struct TipWeights {
+  enum class Mode : unsigned char { visibility, diffraction };
+  Mode mode = Mode::visibility;
+  double lambda = 2.0;  // exponent of the lengthening ratio (Organ et al. use 1 or 2)
+  // Within about this many cells of the tip the lengthening is faded out smoothly (factor
+  // s2^2 / (s2^2 + radius^2)), which bounds the second derivatives there; 0 gives the plain method.
+  double radius = 0.1;
+};
 
 // How the support of one evaluation point is chosen (thesis sec. 4.6, "we determine d_X").
 struct MlsSettings {
@@ -28,6 +43,8 @@ struct MlsSettings {
   // basis [1, x1, x2] (3 terms) of the shell's fallback for points that see too few control points. A
   // linear basis reproduces first derivatives only; its second derivatives carry no curvature (docs/mls.md).
   int order = 2;
+  // Used by the fallback chain (shell/basis_chain.hpp); mls_basis itself takes what its sight callback says.
+  TipWeights tip;
 };
 
 enum class MlsStatus {
@@ -55,6 +72,7 @@ struct MlsBasis {
   struct Workspace {
     std::vector<int> index;
     std::vector<double> pu, pv;                  // parameter coordinates of visible candidates
+    std::vector<double> tu, tv;                  // tip a candidate is seen around (NaN: seen directly)
     std::vector<double> W, W1, W2, W11, W12, W22;  // weight and its derivatives (scaled coordinates)
     std::vector<int> support;                    // control point of each support point (compacted)
     std::vector<double> e1, e2;                  // local coordinates of the support points (compacted)
@@ -112,6 +130,13 @@ struct ControlPointList {
   }
 };
 
+// What an evaluation point sees of a control point: nothing, the point itself in a straight line, or the
+// point around a crack tip (diffraction weights, TipWeights).
+struct Sight {
+  enum class Kind : unsigned char { hidden, direct, around_tip } kind = Kind::hidden;
+  Eigen::Vector2d tip = Eigen::Vector2d::Zero();  // the tip vertex when kind == around_tip
+};
+
 // Visibility callback for an uncracked patch.
 struct AlwaysVisible {
   bool operator()(const Eigen::Vector2d&, const Eigen::Vector2d&) const { return true; }
@@ -123,6 +148,18 @@ struct CubicWeight {
   double w, dw, ddw;
 };
 CubicWeight cubic_weight(double r);
+
+// The weight of a control point seen around a crack tip and its first and second derivatives with respect
+// to the evaluation point, in the scaled coordinates y = xi / d of the support (docs/mls.md, "Tip
+// weights"): e = y_k - y (offset of the control point), r = y - y_c (offset from the tip), s1 = |y_k - y_c|,
+// eps = fade radius in the same units. The tensor-product weight w(|f e1|) w(|f e2|) with
+// f = 1 + (((s1 + |r|) / |e|)^lambda - 1) |r|^2 / (|r|^2 + eps^2).
+struct WeightDerivatives {
+  double W, W1, W2, W11, W12, W22;
+  double stretch;  // f (1: the full weight of a visible point at the same place)
+};
+WeightDerivatives diffracted_weight(const Eigen::Vector2d& e, const Eigen::Vector2d& r, double s1, double lambda,
+                                    double eps);
 
 namespace detail {
 
@@ -164,6 +201,53 @@ void report_mls_failure(const Eigen::Vector2d& xi, const MlsAttempt& attempt, co
 // control points have weight > 0 and the scaled moment matrix has rcond >= min_rcond; at max_factor
 // failure is reported (out.ok == false, status and reason set, result arrays empty, never NaN).
 // Thread-safe for distinct `out` objects as long as `visible` is.
+// As mls_basis, with sight(xi, xi_k) -> Sight: a control point seen around a crack tip gets the
+// diffraction weight (diffracted_weight) with settings.tip.lambda and settings.tip.radius.
+template <class Candidates, class SightFn>
+bool mls_basis_with_sight(const Eigen::Vector2d& xi, const Candidates& candidates, SightFn&& sight,
+                          const MlsSettings& settings, MlsBasis& out) {
+  if (!detail::check_mls_inputs(xi, candidates.cell_u, candidates.cell_v, settings, out)) return false;
+  MlsBasis::Workspace& work = out.work;
+  work.index.clear();
+  work.pu.clear();
+  work.pv.clear();
+  work.tu.clear();
+  work.tv.clear();
+  constexpr double kDirect = std::numeric_limits<double>::quiet_NaN();
+
+  double factor = settings.initial_factor;
+  double prev_du = 0.0, prev_dv = 0.0;
+  for (;;) {
+    const double du = factor * candidates.cell_u;
+    const double dv = factor * candidates.cell_v;
+    candidates.for_each_in_box(xi, du * (1.0 + 1e-12), dv * (1.0 + 1e-12),
+                               [&](int k, const Eigen::Vector2d& xk) {
+                                 const double au = std::abs(xk.x() - xi.x());
+                                 const double av = std::abs(xk.y() - xi.y());
+                                 if (!(au < du && av < dv)) return;
+                                 if (au < prev_du && av < prev_dv) return;
+                                 const Sight seen = sight(xi, xk);
+                                 if (seen.kind == Sight::Kind::hidden) return;
+                                 work.index.push_back(k);
+                                 work.pu.push_back(xk.x());
+                                 work.pv.push_back(xk.y());
+                                 const bool around = seen.kind == Sight::Kind::around_tip;
+                                 work.tu.push_back(around ? seen.tip.x() : kDirect);
+                                 work.tv.push_back(around ? seen.tip.y() : kDirect);
+                               });
+    out.factor = factor;
+    const detail::MlsAttempt attempt = detail::mls_evaluate(xi, du, dv, settings, out);
+    if (attempt.status == MlsStatus::ok) return true;
+    if (factor >= settings.max_factor) {
+      detail::report_mls_failure(xi, attempt, settings, out);
+      return false;
+    }
+    prev_du = du;
+    prev_dv = dv;
+    factor = std::min(factor * settings.growth, settings.max_factor);
+  }
+}
+
 template <class Candidates, class Visible>
 bool mls_basis(const Eigen::Vector2d& xi, const Candidates& candidates, Visible&& visible,
                const MlsSettings& settings, MlsBasis& out) {
@@ -172,6 +256,8 @@ bool mls_basis(const Eigen::Vector2d& xi, const Candidates& candidates, Visible&
   work.index.clear();
   work.pu.clear();
   work.pv.clear();
+  work.tu.clear();  // every candidate is seen directly
+  work.tv.clear();
 
   double factor = settings.initial_factor;
   double prev_du = 0.0, prev_dv = 0.0;  // support of the previous attempt: its candidates are already tested

@@ -102,6 +102,7 @@ struct CrackSystem::VisibilityCache {
 
 CrackSystem::CrackSystem(const scene::Model& model, World& world, double grid_dx) {
   mls_settings_.max_factor = model.cracks.max_support;
+  if (model.cracks.tip_diffraction) mls_settings_.tip.mode = shell::TipWeights::Mode::diffraction;
   phantom_nodes_ = model.cracks.phantom_nodes;
   cracks_.resize(world.num_shells());
   damaged_count_.assign(world.num_shells(), 0);

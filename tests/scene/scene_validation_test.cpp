@@ -175,10 +175,22 @@ const BadCase kBadCases[] = {
      "value 0.05 is out of range: must be in (0, 0.01)"},
     {"cracks_zero_shadow_offset", "/cracks", R"({"shadow_offset": 0})", "/cracks/shadow_offset",
      "value 0 is out of range: must be in (0, 0.01)"},
+    {"cracks_unknown_tip_weights", "/cracks", R"({"tip_weights": "transparency"})", "/cracks/tip_weights",
+     "unknown value \"transparency\": allowed are \"visibility\", \"diffraction\""},
+    {"cracks_tip_weights_not_a_string", "/cracks", R"({"tip_weights": 2})", "/cracks/tip_weights", "string"},
 };
 
 INSTANTIATE_TEST_SUITE_P(AllRules, SceneValidation, ::testing::ValuesIn(kBadCases),
                          [](const auto& info) { return std::string(info.param.label); });
+
+TEST(SceneParse, TipWeightsDefaultToVisibilityAndAcceptDiffraction) {
+  EXPECT_FALSE(build_model(valid_scene().dump(), "ok.json").cracks.tip_diffraction);
+  Json j = valid_scene();
+  j["cracks"] = Json::parse(R"({"tip_weights": "visibility"})");
+  EXPECT_FALSE(build_model(j.dump(), "ok.json").cracks.tip_diffraction);
+  j["cracks"] = Json::parse(R"({"tip_weights": "diffraction"})");
+  EXPECT_TRUE(build_model(j.dump(), "ok.json").cracks.tip_diffraction);
+}
 
 TEST(SceneParse, ValidSceneBuildsTheExpectedPatches) {
   const Model s = build_model(valid_scene().dump(), "ok.json");
