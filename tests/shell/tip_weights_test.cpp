@@ -35,9 +35,10 @@ struct TipScene {
     index.rebuild(graph);
     portals.build(index, 1e-7 * kCell);
   }
-  BasisChainSettings settings(TipWeights::Mode mode) const {
+  BasisChainSettings settings(TipWeights::Mode mode, double radius) const {
     BasisChainSettings s;
     s.mls.tip.mode = mode;
+    s.mls.tip.radius = radius;
     return s;
   }
 };
@@ -51,10 +52,10 @@ struct Eval {
   std::map<int, std::array<double, 6>> R;  // control point -> R, R1, R2, R11, R12, R22
 };
 
-Eval evaluate(const TipScene& s, const Vec2& xi, TipWeights::Mode mode) {
+Eval evaluate(const TipScene& s, const Vec2& xi, TipWeights::Mode mode, double radius = TipWeights{}.radius) {
   BasisChainWork work;
   Eval e;
-  e.fit = fit_point_basis(xi, s.grid, s.index, s.portals, s.settings(mode), work);
+  e.fit = fit_point_basis(xi, s.grid, s.index, s.portals, s.settings(mode, radius), work);
   const MlsBasis& b = work.basis;
   e.factor = b.factor;
   for (int k = 0; k < b.size(); ++k) {
@@ -71,6 +72,13 @@ double basis_jump(const Eval& a, const Eval& b) {
   for (const auto& [k, r] : b.R)
     if (!a.R.count(k)) jump = std::max(jump, std::abs(r[0]));
   return jump;
+}
+
+// Largest l^2 |R_ab| over the support: what the bending step bound sees (docs/fracture.md).
+double largest_curvature_term(const Eval& e) {
+  double m = 0.0;
+  for (const auto& [k, r] : e.R) m = std::max({m, std::abs(r[3]), std::abs(r[4]), std::abs(r[5])});
+  return m * kCell * kCell;
 }
 
 // A mode-I opening: control points above the crack's line move up by 1, those below down by 1 (out of
@@ -126,9 +134,18 @@ TEST(TipWeights, DiffractionBasisClosesTheCrackAtTheTip) {
     const Eval va = evaluate(s, above, kVisibility), vb = evaluate(s, below, kVisibility);
     const double jump = basis_jump(a, b), opening = std::abs(opened_surface(s, a) - opened_surface(s, b));
     const double vis_opening = std::abs(opened_surface(s, va) - opened_surface(s, vb));
-    std::printf("[ at the tip, rho = %g cells ] diffraction: basis jump %.2e, opening %.2e; visibility: "
-                "opening %.2e\n",
-                rho, jump, opening, vis_opening);
+    const double curv = std::max(largest_curvature_term(a), largest_curvature_term(b));
+    const double vis_curv = std::max(largest_curvature_term(va), largest_curvature_term(vb));
+    // The published method (no fade): its second derivatives grow like 1 / rho.
+    const double plain_curv = std::max(largest_curvature_term(evaluate(s, above, kDiffraction, 0.0)),
+                                       largest_curvature_term(evaluate(s, below, kDiffraction, 0.0)));
+    std::printf("[ at the tip, rho = %g cells ] without the fade: l^2 |R_ab| <= %.1f\n", rho, plain_curv);
+    if (rho == 1e-4) EXPECT_GT(plain_curv, 10.0 * vis_curv) << "the singularity the fade removes";
+    std::printf("[ at the tip, rho = %g cells ] diffraction: basis jump %.2e, opening %.2e, l^2 |R_ab| <= %.1f; "
+                "visibility: opening %.2e, l^2 |R_ab| <= %.1f\n",
+                rho, jump, opening, curv, vis_opening, vis_curv);
+    // The fade chi keeps the second derivatives bounded as the point approaches the tip (no 1 / s2 growth).
+    EXPECT_LT(curv, 3.0 * vis_curv + 10.0) << rho;
     if (rho <= 0.01) {
       EXPECT_LT(jump, 30.0 * rho) << rho;
       EXPECT_LT(opening, 30.0 * rho) << rho;
