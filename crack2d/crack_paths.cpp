@@ -16,6 +16,7 @@ void CrackPortals::build(const CrackIndex& index, double offset) {
   ahead_.clear();
   tips_.clear();
   tip_portals_.clear();
+  corners_.clear();
   segments_ = index.num_segments();
   // Directions of the segments leaving each vertex; ends with identical coordinates are one vertex.
   std::map<std::pair<double, double>, std::vector<double>> leaving;
@@ -49,6 +50,7 @@ void CrackPortals::build(const CrackIndex& index, double offset) {
         tip_portals_.push_back(points_.size());
       }
       points_.push_back(p);
+      corners_.push_back(v);
       ahead_.push_back(dir);
     }
   }

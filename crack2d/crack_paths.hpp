@@ -29,12 +29,14 @@ class CrackPortals {
   // Free crack tips (vertices with one segment) whose portal lies in the domain: the tip vertex and the
   // index of its portal in points(). Used by the diffraction weights (docs/mls.md, "Tip weights").
   const std::vector<Point>& tips() const { return tips_; }
+  // The crack vertex of each portal (the corner it lies beyond), parallel to points().
+  const std::vector<Point>& corners() const { return corners_; }
   const std::vector<size_t>& tip_portals() const { return tip_portals_; }
   size_t built_for_segments() const { return segments_; }  // num_segments() of the index at build time
 
  private:
   std::vector<Point> points_, ahead_;
-  std::vector<Point> tips_;
+  std::vector<Point> tips_, corners_;
   std::vector<size_t> tip_portals_;
   size_t segments_ = 0;
 };

@@ -85,11 +85,14 @@ PointFit fit_point_basis(const Eigen::Vector2d& xi_in, const ControlGrid& grid, 
   tips.clear();
   if (diffraction) {
     const double hu = kTipBox * s.mls.max_factor * grid.cell_u, hv = kTipBox * s.mls.max_factor * grid.cell_v;
-    for (size_t t = 0; t < portals.tips().size(); ++t) {
-      const Eigen::Vector2d& c = portals.tips()[t];
+    const bool corners = s.mls.tip.corners;
+    const size_t n = corners ? portals.size() : portals.tips().size();
+    for (size_t t = 0; t < n; ++t) {
+      const size_t portal = corners ? t : portals.tip_portals()[t];
+      const Eigen::Vector2d& c = portals.corners()[portal];
       if (std::abs(c.x() - xi.x()) > hu || std::abs(c.y() - xi.y()) > hv) continue;
-      if (index.crosses(xi, portals.points()[portals.tip_portals()[t]])) continue;  // the tip is not in sight
-      tips.push_back(t);
+      if (index.crosses(xi, portals.points()[portal])) continue;  // the tip is not in sight
+      tips.push_back(portal);
     }
   }
   const double lu = grid.cell_u, lv = grid.cell_v;
@@ -102,11 +105,11 @@ PointFit fit_point_basis(const Eigen::Vector2d& xi_in, const ControlGrid& grid, 
     // The shortest way around one tip (cell units); a hop to the tip runs to its portal, 1e-7 cells beyond.
     double best = std::numeric_limits<double>::infinity();
     for (size_t t : tips) {
-      const Eigen::Vector2d& tip = portals.tips()[t];
+      const Eigen::Vector2d& tip = portals.corners()[t];
       const double way = std::hypot((tip.x() - a.x()) / lu, (tip.y() - a.y()) / lv) +
                          std::hypot((c.x() - tip.x()) / lu, (c.y() - tip.y()) / lv);
       if (!(way < best)) continue;
-      if (index.crosses(portals.points()[portals.tip_portals()[t]], c)) continue;
+      if (index.crosses(portals.points()[t], c)) continue;
       best = way;
       out.kind = Sight::Kind::around_tip;
       out.tip = tip;

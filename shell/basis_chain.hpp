@@ -58,7 +58,7 @@ struct PointFit {
 struct BasisChainWork {
   MlsBasis basis;
   FragmentWork fragment;
-  std::vector<size_t> tips;  // free tips in sight of the point (diffraction tip weights)
+  std::vector<size_t> tips;  // portals (free tips, or all corners) in sight of the point (diffraction weights)
 };
 
 // Runs the chain at xi. On return work.basis holds the result: R and its derivatives for levels

@@ -26,6 +26,9 @@ struct TipWeights {
   // Within about this many cells of the tip the lengthening is faded out smoothly (factor
   // s2^2 / (s2^2 + radius^2)), which bounds the second derivatives there; 0 gives the plain method.
   double radius = 0.1;
+  // Also around the reflex corners of bent cracks (the open side of a bend or junction), not only free
+  // tips: a point on the outer side of a bend then reaches its own side's control points behind the bend.
+  bool corners = true;
 };
 
 // How the support of one evaluation point is chosen (thesis sec. 4.6, "we determine d_X").

@@ -30,8 +30,14 @@ struct TipScene {
   crack2d::CrackGraph graph;
   crack2d::CrackIndex index;
   crack2d::CrackPortals portals;
-  TipScene() {
-    graph.add_edge(graph.add_vertex(Vec2(0.0, kTip.y())), graph.add_vertex(kTip));
+  TipScene() : TipScene({Vec2(0.0, kTip.y()), kTip}) {}
+  explicit TipScene(std::initializer_list<Vec2> polyline) {
+    int prev = -1;
+    for (const Vec2& p : polyline) {
+      const int v = graph.add_vertex(p);
+      if (prev >= 0) graph.add_edge(prev, v);
+      prev = v;
+    }
     index.rebuild(graph);
     portals.build(index, 1e-7 * kCell);
   }
@@ -121,6 +127,43 @@ TEST(TipWeights, DiffractionBasisIsContinuousPastTheTip) {
     EXPECT_LT(fine, 0.2 * coarse + 1e-12);
     if (near_tip) EXPECT_GT(visibility, 10.0 * fine);  // the defect diffraction removes
   }
+}
+
+// Largest basis jump between neighbouring samples h apart on the segment from a to b (support factor or
+// level changes skipped, as above).
+double scan(const TipScene& s, const Vec2& a, const Vec2& b, double h, TipWeights::Mode mode) {
+  const int n = static_cast<int>(std::ceil((b - a).norm() / h));
+  double worst = 0.0;
+  Eval prev = evaluate(s, a, mode);
+  for (int i = 1; i <= n; ++i) {
+    Eval cur = evaluate(s, a + (b - a) * (static_cast<double>(i) / n), mode);
+    if (cur.factor == prev.factor && cur.fit.level == prev.fit.level) worst = std::max(worst, basis_jump(prev, cur));
+    prev = std::move(cur);
+  }
+  return worst;
+}
+
+TEST(TipWeights, DiffractionBasisIsContinuousAroundTheOuterSideOfABend) {
+  // The crack runs in from the left edge and bends down at kTip by about 60 degrees. On the outer
+  // (upper) side of the bend the visibility rule hides the same side's control points beyond the bend
+  // from points before it, and the basis jumps on every ray from such a control point past the corner.
+  const TipScene s({Vec2(0.0, kTip.y()), kTip, Vec2(0.7, 0.2)});
+  for (double u : {0.50, 0.51}) {
+    const Vec2 a(u, kTip.y() + 0.004), b(u, kTip.y() + 0.1);
+    const double coarse = scan(s, a, b, 1e-4, kDiffraction), fine = scan(s, a, b, 1e-5, kDiffraction);
+    const double visibility = scan(s, a, b, 1e-5, kVisibility);
+    std::printf("[ outer side of a bend, u = %.2f ] largest basis jump: diffraction %.2e (h = 1e-4), %.2e "
+                "(h = 1e-5); visibility %.2e (h = 1e-5)\n",
+                u, coarse, fine, visibility);
+    EXPECT_LT(fine, 2e-3);
+    EXPECT_LT(fine, 0.2 * coarse + 1e-12);
+    EXPECT_GT(visibility, 10.0 * fine);
+  }
+  // Under the bend (its inner side) nothing changes: the corner has no portal there, and control points
+  // across the crack stay out of the basis of a point 2 cells before the bend.
+  const Vec2 xi(0.32, 0.49);
+  const Eval e = evaluate(s, xi, kDiffraction);
+  for (const auto& [k, r] : e.R) EXPECT_LT(s.grid.point(k).y(), kTip.y()) << "control point " << k;
 }
 
 TEST(TipWeights, DiffractionBasisClosesTheCrackAtTheTip) {
