@@ -76,7 +76,8 @@ PointFit fit_point_basis(const Eigen::Vector2d& xi_in, const ControlGrid& grid, 
   };
 
   // Levels 1-3 see control points in straight lines; with diffraction tip weights also those hidden behind
-  // a crack that a straight line around one free tip reaches (docs/mls.md, "Tip weights").
+  // a crack that two straight hops around one free tip (or, with tip.corners, one reflex corner of a bend or
+  // junction) reach (docs/mls.md, "Tip weights"). `tips` holds the portals of those corners in sight.
   const bool diffraction = s.mls.tip.mode == TipWeights::Mode::diffraction;
   // Tips that can matter: a control point seen around a tip farther than kTipBox supports (infinity norm,
   // cells / factor) gets weight 0 (docs/mls.md), so the basis depends on cracks within kTipBox * factor.
@@ -91,7 +92,7 @@ PointFit fit_point_basis(const Eigen::Vector2d& xi_in, const ControlGrid& grid, 
       const size_t portal = corners ? t : portals.tip_portals()[t];
       const Eigen::Vector2d& c = portals.corners()[portal];
       if (std::abs(c.x() - xi.x()) > hu || std::abs(c.y() - xi.y()) > hv) continue;
-      if (index.crosses(xi, portals.points()[portal])) continue;  // the tip is not in sight
+      if (index.crosses(xi, portals.points()[portal])) continue;  // the corner is not in sight
       tips.push_back(portal);
     }
   }
@@ -102,7 +103,8 @@ PointFit fit_point_basis(const Eigen::Vector2d& xi_in, const ControlGrid& grid, 
       out.kind = Sight::Kind::direct;
       return out;
     }
-    // The shortest way around one tip (cell units); a hop to the tip runs to its portal, 1e-7 cells beyond.
+    // The shortest way around one corner (cell units), measured through the crack vertex; the hops
+    // themselves are checked to the corner's portal, 1e-7 cells beyond it.
     double best = std::numeric_limits<double>::infinity();
     for (size_t t : tips) {
       const Eigen::Vector2d& tip = portals.corners()[t];

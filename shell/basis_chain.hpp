@@ -2,7 +2,8 @@
 // The fallback chain that gives every point near a crack a basis (docs/mls.md, "Fallback chain"): a
 // quadrature point, shear particle or render vertex whose NURBS support the crack cuts tries, in order,
 //   quadratic MLS (thesis sec. 4.6) -> relaxed quadratic -> linear MLS (membrane only) over the control
-//   points it sees in straight lines -> MLS over its own fragment's control points along paths around
+//   points it sees in straight lines (with diffraction tip weights, MlsSettings::tip, also around one crack
+//   tip or bend corner) -> MLS over its own fragment's control points along paths around
 //   crack tips and corners -> a rigid sliver (follows its fragment's control points, no force) -> removed
 //   (its fragment holds no control point at all).
 // A point lying exactly on a crack line is first moved 1e-9 cells to the side that sees the most.
