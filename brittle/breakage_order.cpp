@@ -95,20 +95,9 @@ int split_regions_at_empty_cells(const VoronoiDiagram& d, const std::vector<char
   std::vector<int> part(n, -1);
   int parts = 0;
   std::deque<int> queue;
-  // Breadth-first search from the queued cells through non-crack faces to unlabelled cells (only cells
-  // holding points when `held_only`), each new cell taking the label of the cell it was reached from.
+  // Flood from the queued cells (only into cells holding points when `held_only`).
   auto flood = [&](bool held_only) {
-    while (!queue.empty()) {
-      const int c = queue.front();
-      queue.pop_front();
-      for (int f : d.cell_faces[static_cast<size_t>(c)]) {
-        if (crack_face[static_cast<size_t>(f)]) continue;
-        const int o = d.other(f, c);
-        if (o < 0 || part[static_cast<size_t>(o)] >= 0 || (held_only && !held[static_cast<size_t>(o)])) continue;
-        part[static_cast<size_t>(o)] = part[static_cast<size_t>(c)];
-        queue.push_back(o);
-      }
-    }
+    flood_cells(d, crack_face, part, queue, [&](int o) { return !held_only || held[static_cast<size_t>(o)]; });
   };
   for (size_t c = 0; c < n; ++c)
     if (held[c] && part[c] < 0) {

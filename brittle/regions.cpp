@@ -15,17 +15,7 @@ Regions find_regions(const VoronoiDiagram& d, const std::vector<char>& crack_fac
     const int id = r.count++;
     std::deque<int> queue{static_cast<int>(start)};
     r.cell_region[start] = id;
-    while (!queue.empty()) {
-      const int c = queue.front();
-      queue.pop_front();
-      for (int f : d.cell_faces[static_cast<size_t>(c)]) {
-        if (crack_face[static_cast<size_t>(f)]) continue;
-        const int o = d.other(f, c);
-        if (o < 0 || r.cell_region[static_cast<size_t>(o)] >= 0) continue;
-        r.cell_region[static_cast<size_t>(o)] = id;
-        queue.push_back(o);
-      }
-    }
+    flood_cells(d, crack_face, r.cell_region, queue, [](int) { return true; });
   }
   return r;
 }

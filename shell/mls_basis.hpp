@@ -197,52 +197,33 @@ void report_mls_failure(const Eigen::Vector2d& xi, const MlsAttempt& attempt, co
 
 }  // namespace detail
 
-// MLS shape functions at parameter point xi (thesis Eq. 4.15-4.21). Candidates is ControlGrid,
-// ControlPointList or anything with cell_u, cell_v and for_each_in_box. visible(xi, xi_k) must return
-// true when the segment xi -> xi_k does not cross a crack; it is called at most once per candidate.
-// The support factor starts at settings.initial_factor and grows until at least min_neighbours visible
-// control points have weight > 0 and the scaled moment matrix has rcond >= min_rcond; at max_factor
-// failure is reported (out.ok == false, status and reason set, result arrays empty, never NaN).
-// Thread-safe for distinct `out` objects as long as `visible` is.
-// As mls_basis, with sight(xi, xi_k) -> Sight: a control point seen around a crack tip gets the
-// diffraction weight (diffracted_weight) with settings.tip.lambda and settings.tip.radius.
-template <class Candidates, class SightFn>
-bool mls_basis_with_sight(const Eigen::Vector2d& xi, const Candidates& candidates, SightFn&& sight,
-                          const MlsSettings& settings, MlsBasis& out) {
-  if (!detail::check_mls_inputs(xi, candidates.cell_u, candidates.cell_v, settings, out)) return false;
-  MlsBasis::Workspace& work = out.work;
-  work.index.clear();
-  work.pu.clear();
-  work.pv.clear();
-  work.tu.clear();
-  work.tv.clear();
-  constexpr double kDirect = std::numeric_limits<double>::quiet_NaN();
+namespace detail {
 
+// The support search shared by mls_basis and mls_basis_with_sight: the factor starts at
+// settings.initial_factor and grows until the basis at that support is accepted, or fails at max_factor.
+// take(k, xi_k) is offered every candidate inside the support that the previous attempt did not test
+// (each candidate once) and appends the ones it keeps to out.work.
+template <class Candidates, class Take>
+bool grow_support(const Eigen::Vector2d& xi, const Candidates& candidates, Take&& take, const MlsSettings& settings,
+                  MlsBasis& out) {
   double factor = settings.initial_factor;
-  double prev_du = 0.0, prev_dv = 0.0;
+  double prev_du = 0.0, prev_dv = 0.0;  // support of the previous attempt: its candidates are already tested
   for (;;) {
     const double du = factor * candidates.cell_u;
     const double dv = factor * candidates.cell_v;
-    candidates.for_each_in_box(xi, du * (1.0 + 1e-12), dv * (1.0 + 1e-12),
-                               [&](int k, const Eigen::Vector2d& xk) {
-                                 const double au = std::abs(xk.x() - xi.x());
-                                 const double av = std::abs(xk.y() - xi.y());
-                                 if (!(au < du && av < dv)) return;
-                                 if (au < prev_du && av < prev_dv) return;
-                                 const Sight seen = sight(xi, xk);
-                                 if (seen.kind == Sight::Kind::hidden) return;
-                                 work.index.push_back(k);
-                                 work.pu.push_back(xk.x());
-                                 work.pv.push_back(xk.y());
-                                 const bool around = seen.kind == Sight::Kind::around_tip;
-                                 work.tu.push_back(around ? seen.tip.x() : kDirect);
-                                 work.tv.push_back(around ? seen.tip.y() : kDirect);
-                               });
+    // The query box is inflated a little; the exact |offset| < d test below decides membership.
+    candidates.for_each_in_box(xi, du * (1.0 + 1e-12), dv * (1.0 + 1e-12), [&](int k, const Eigen::Vector2d& xk) {
+      const double au = std::abs(xk.x() - xi.x());
+      const double av = std::abs(xk.y() - xi.y());
+      if (!(au < du && av < dv)) return;
+      if (au < prev_du && av < prev_dv) return;
+      take(k, xk);
+    });
     out.factor = factor;
-    const detail::MlsAttempt attempt = detail::mls_evaluate(xi, du, dv, settings, out);
+    const MlsAttempt attempt = mls_evaluate(xi, du, dv, settings, out);
     if (attempt.status == MlsStatus::ok) return true;
     if (factor >= settings.max_factor) {
-      detail::report_mls_failure(xi, attempt, settings, out);
+      report_mls_failure(xi, attempt, settings, out);
       return false;
     }
     prev_du = du;
@@ -251,45 +232,59 @@ bool mls_basis_with_sight(const Eigen::Vector2d& xi, const Candidates& candidate
   }
 }
 
+// Empties the candidate lists of out.work.
+inline void clear_candidates(MlsBasis::Workspace& work) {
+  work.index.clear();
+  work.pu.clear();
+  work.pv.clear();
+  work.tu.clear();
+  work.tv.clear();
+}
+
+}  // namespace detail
+
+// MLS shape functions at parameter point xi (thesis Eq. 4.15-4.21). Candidates is ControlGrid,
+// ControlPointList or anything with cell_u, cell_v and for_each_in_box. visible(xi, xi_k) must return
+// true when the segment xi -> xi_k does not cross a crack; it is called at most once per candidate.
+// The support factor starts at settings.initial_factor and grows until at least min_neighbours visible
+// control points have weight > 0 and the scaled moment matrix has rcond >= min_rcond; at max_factor
+// failure is reported (out.ok == false, status and reason set, result arrays empty, never NaN).
+// Thread-safe for distinct `out` objects as long as `visible` is.
 template <class Candidates, class Visible>
 bool mls_basis(const Eigen::Vector2d& xi, const Candidates& candidates, Visible&& visible,
                const MlsSettings& settings, MlsBasis& out) {
   if (!detail::check_mls_inputs(xi, candidates.cell_u, candidates.cell_v, settings, out)) return false;
   MlsBasis::Workspace& work = out.work;
-  work.index.clear();
-  work.pu.clear();
-  work.pv.clear();
-  work.tu.clear();  // every candidate is seen directly
-  work.tv.clear();
+  detail::clear_candidates(work);  // tu, tv stay empty: every candidate is seen directly
+  auto take = [&](int k, const Eigen::Vector2d& xk) {
+    if (!visible(xi, xk)) return;
+    work.index.push_back(k);
+    work.pu.push_back(xk.x());
+    work.pv.push_back(xk.y());
+  };
+  return detail::grow_support(xi, candidates, take, settings, out);
+}
 
-  double factor = settings.initial_factor;
-  double prev_du = 0.0, prev_dv = 0.0;  // support of the previous attempt: its candidates are already tested
-  for (;;) {
-    const double du = factor * candidates.cell_u;
-    const double dv = factor * candidates.cell_v;
-    // The query box is inflated a little; the exact |offset| < d test below decides membership.
-    candidates.for_each_in_box(xi, du * (1.0 + 1e-12), dv * (1.0 + 1e-12),
-                               [&](int k, const Eigen::Vector2d& xk) {
-                                 const double au = std::abs(xk.x() - xi.x());
-                                 const double av = std::abs(xk.y() - xi.y());
-                                 if (!(au < du && av < dv)) return;
-                                 if (au < prev_du && av < prev_dv) return;
-                                 if (!visible(xi, xk)) return;
-                                 work.index.push_back(k);
-                                 work.pu.push_back(xk.x());
-                                 work.pv.push_back(xk.y());
-                               });
-    out.factor = factor;
-    const detail::MlsAttempt attempt = detail::mls_evaluate(xi, du, dv, settings, out);
-    if (attempt.status == MlsStatus::ok) return true;
-    if (factor >= settings.max_factor) {
-      detail::report_mls_failure(xi, attempt, settings, out);
-      return false;
-    }
-    prev_du = du;
-    prev_dv = dv;
-    factor = std::min(factor * settings.growth, settings.max_factor);
-  }
+// As mls_basis, with sight(xi, xi_k) -> Sight: a control point seen around a crack tip gets the
+// diffraction weight (diffracted_weight) with settings.tip.lambda and settings.tip.radius.
+template <class Candidates, class SightFn>
+bool mls_basis_with_sight(const Eigen::Vector2d& xi, const Candidates& candidates, SightFn&& sight,
+                          const MlsSettings& settings, MlsBasis& out) {
+  if (!detail::check_mls_inputs(xi, candidates.cell_u, candidates.cell_v, settings, out)) return false;
+  MlsBasis::Workspace& work = out.work;
+  detail::clear_candidates(work);
+  constexpr double kDirect = std::numeric_limits<double>::quiet_NaN();
+  auto take = [&](int k, const Eigen::Vector2d& xk) {
+    const Sight seen = sight(xi, xk);
+    if (seen.kind == Sight::Kind::hidden) return;
+    work.index.push_back(k);
+    work.pu.push_back(xk.x());
+    work.pv.push_back(xk.y());
+    const bool around = seen.kind == Sight::Kind::around_tip;
+    work.tu.push_back(around ? seen.tip.x() : kDirect);
+    work.tv.push_back(around ? seen.tip.y() : kDirect);
+  };
+  return detail::grow_support(xi, candidates, take, settings, out);
 }
 
 }  // namespace shellfrac::shell
