@@ -70,8 +70,8 @@ Model build(const Scene& input) {
   m.damping = scene.damping.value_or(0.0);
   m.grid.dx = scene.grid.dx;
   // "adaptive" is the default: energy-conserving affine-FLIP on intact elastic material, APIC where damage,
-  // plastic flow, cracks or seams act, and PIC on shells that can crack unless cracking_shells says
-  // "adaptive" (crack tips and fully damaged flaps, docs/shell-model.md, "Transfer").
+  // plastic flow, cracks or seams act; a shell that can crack turns to PIC everywhere once it is damaged
+  // or cut (cracking_shells, docs/shell-model.md, "Transfer").
   const std::string transfer = scene.grid.transfer.value_or("adaptive");
   m.grid.apic = transfer == "apic" || transfer == "aflip" || transfer == "adaptive";
   if (transfer == "flip" || transfer == "aflip") m.grid.flip = scene.grid.flip_ratio.value_or(model::kDefaultFlipRatio);
@@ -79,8 +79,14 @@ Model build(const Scene& input) {
     m.grid.adaptive = true;
     m.grid.flip = scene.grid.flip_ratio.value_or(model::kDefaultIntactFlipRatio);
     m.grid.flip_active = scene.grid.flip_ratio_active.value_or(model::kDefaultActiveFlipRatio);
-    m.grid.adaptive_cracking = scene.grid.cracking_shells.value_or("pic") == "adaptive";
-    // Every shell can crack: the whole scene is PIC, exactly as "transfer": "pic".
+    using Cracking = model::GridSettings::CrackingShells;
+    const std::string cracking = scene.grid.cracking_shells.value_or("adaptive_then_pic");
+    m.grid.cracking = cracking == "pic"                  ? Cracking::Pic
+                      : cracking == "adaptive"           ? Cracking::Adaptive
+                      : cracking == "adaptive_then_apic" ? Cracking::AdaptiveThenApic
+                                                         : Cracking::AdaptiveThenPic;
+    // With cracking_shells "pic" and every shell able to crack, the whole scene is PIC, exactly as
+    // "transfer": "pic".
     bool any = false;
     for (const model::Shell& s : m.shells) any = any || m.grid.adaptive_shell(s);
     if (!any) m.grid = model::GridSettings{m.grid.dx};

@@ -597,7 +597,7 @@ void describe(V& v, Grid& g) {
                ? "\"flip_ratio_active\" needs \"transfer\": \"adaptive\""
                : "";
   });
-  v.choice("cracking_shells", g.cracking_shells, {"pic", "adaptive"});
+  v.choice("cracking_shells", g.cracking_shells, {"adaptive_then_pic", "adaptive_then_apic", "adaptive", "pic"});
   v.check("cracking_shells", [&] {
     return g.cracking_shells && g.transfer && *g.transfer != "adaptive"
                ? "\"cracking_shells\" needs \"transfer\": \"adaptive\""

@@ -182,11 +182,24 @@ struct GridSettings {
   // `flip_active` the share next to damage, plastic flow or a crack, chosen per particle every step.
   bool adaptive = false;
   double flip_active = 0.0;
-  // Adaptive transfer only: shells that can crack (Shell::can_crack) run it too instead of PIC
-  // (grid.cracking_shells "adaptive"; docs/shell-model.md, "Transfer").
-  bool adaptive_cracking = false;
-  // Adaptive transfer only: whether shell i runs it (false: PIC for that shell's particles).
-  bool adaptive_shell(const Shell& s) const { return adaptive && (adaptive_cracking || !s.can_crack()); }
+  // Adaptive transfer only: how shells that can crack (Shell::can_crack) run (grid.cracking_shells;
+  // docs/shell-model.md, "Transfer").
+  //  - AdaptiveThenPic (default): the adaptive transfer, like an intact shell, until damage or a crack
+  //    first appears on the shell; from then on PIC for all of its particles.
+  //  - AdaptiveThenApic: the same, but APIC (share 0, affine velocity kept) once damaged.
+  //  - Adaptive: the adaptive transfer throughout.
+  //  - Pic: PIC throughout, with half of each cell's mass on its shear particles (the rule before).
+  enum class CrackingShells { AdaptiveThenPic, AdaptiveThenApic, Adaptive, Pic };
+  CrackingShells cracking = CrackingShells::AdaptiveThenPic;
+  // Adaptive transfer only: whether shell s runs it (false: PIC for that shell's particles).
+  bool adaptive_shell(const Shell& s) const {
+    return adaptive && (cracking != CrackingShells::Pic || !s.can_crack());
+  }
+  // Adaptive transfer only: whether shell s leaves it once damage or a crack appears on it.
+  bool turns_once_damaged(const Shell& s) const {
+    return adaptive && s.can_crack() &&
+           (cracking == CrackingShells::AdaptiveThenPic || cracking == CrackingShells::AdaptiveThenApic);
+  }
 };
 
 struct ColliderSpec {

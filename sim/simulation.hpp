@@ -87,6 +87,9 @@ class Simulation {
   size_t num_grid_nodes() const { return grid_.num_grid_nodes(); }
   double kinetic_energy() const { return world_.kinetic_energy(); }
   Eigen::Vector3d linear_momentum() const { return world_.linear_momentum(); }
+  // Whether shell i, which can crack, has left the adaptive shares for PIC (or APIC) because damage or a
+  // crack appeared on it (grid.cracking_shells "adaptive_then_pic", the default, or "adaptive_then_apic").
+  bool transfer_turned(size_t shell) const { return shares_.turned(shell); }
   // Total force the pins exert on shell i over the last step (sim/pin_system.hpp: minus the force on the
   // held components, minus the momentum the held components lost, per unit time).
   const Eigen::Vector3d& pin_reaction(size_t shell) const { return pin_reaction_[shell]; }

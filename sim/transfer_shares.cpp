@@ -19,8 +19,27 @@ void TransferShares::attach(World& world, const scene::Model& model) {
     for (const auto* rows : {&c.follower_row1, &c.follower_row2, &spec.follower_neighbours}) mark(c.follower_patch, *rows);
   }
   pic_shell_.assign(world.num_shells(), 0);
-  for (size_t i = 0; i < world.num_shells() && i < model.shells.size(); ++i)
+  turns_.assign(world.num_shells(), 0);
+  turned_.assign(world.num_shells(), 0);
+  for (size_t i = 0; i < world.num_shells() && i < model.shells.size(); ++i) {
     pic_shell_[i] = !model.grid.adaptive_shell(model.shells[i]);
+    turns_[i] = model.grid.turns_once_damaged(model.shells[i]);
+  }
+  turn_to_pic_ = model.grid.cracking != scene::model::GridSettings::CrackingShells::AdaptiveThenApic;
+  // Shells joined by coupled seams, directly or through others, share one group (the smallest index).
+  seam_group_.resize(world.num_shells());
+  for (size_t i = 0; i < seam_group_.size(); ++i) seam_group_[i] = i;
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (const scene::model::InterfaceSpec& spec : model.interfaces) {
+      if (!spec.coupled) continue;
+      size_t& a = seam_group_[static_cast<size_t>(spec.coupling.leader_patch)];
+      size_t& b = seam_group_[static_cast<size_t>(spec.coupling.follower_patch)];
+      if (a == b) continue;
+      a = b = std::min(a, b);
+      changed = true;
+    }
+  }
   control_.resize(world.num_shells());
   shear_.resize(world.num_shells());
   solid_.resize(world.num_solids());
@@ -38,7 +57,37 @@ void TransferShares::attach(World& world, const scene::Model& model) {
   }
 }
 
-void TransferShares::update(const World& world, double intact, double active) {
+namespace {
+
+// Whether any layer point of the patch is damaged or any point has left the plain NURBS basis (a crack or
+// cut runs through its support), or a control point takes part in an MLS basis beside a crack.
+bool damaged_or_cracked(const shell::ShellPatch& patch) {
+  const std::vector<double>& damage = patch.damage_values();
+  if (std::any_of(damage.begin(), damage.end(), [](double c) { return c > 0; })) return true;
+  for (size_t q = 0; q < patch.num_inplane_points(); ++q)
+    if (patch.point_level(q) != shell::BasisLevel::Nurbs) return true;
+  const std::vector<unsigned char>& near = patch.control_near_crack();
+  return std::find(near.begin(), near.end(), 1) != near.end();
+}
+
+}  // namespace
+
+void TransferShares::turn_damaged_shells(World& world) {
+  for (size_t i = 0; i < world.num_shells(); ++i) {
+    if (!turns_[i] || turned_[i] || !damaged_or_cracked(world.shell(i))) continue;
+    // The shell and every shell a coupled seam ties to it turn together: a seam between a PIC and an
+    // adaptive patch would set velocities that one side's FLIP part does not know.
+    for (size_t j = 0; j < world.num_shells(); ++j) {
+      if (seam_group_[j] != seam_group_[i] || turned_[j] || !turns_[j]) continue;
+      turned_[j] = 1;
+      // PIC from now on: p2g reads no affine velocity and g2p writes none.
+      if (turn_to_pic_) world.particle_sets()[world.control_set(j)].affine = nullptr;
+    }
+  }
+}
+
+void TransferShares::update(World& world, double intact, double active) {
+  turn_damaged_shells(world);
   for (size_t i = 0; i < world.num_shells(); ++i) {
     const shell::ShellPatch& patch = world.shell(i);
     if (pic_shell_[i]) continue;  // shares stay 0, and the shell has no affine velocity: PIC
@@ -58,6 +107,11 @@ void TransferShares::update(const World& world, double intact, double active) {
     }
     const std::vector<unsigned char>& control_near = patch.control_near_crack();
     std::vector<double>& control = control_[i];
+    if (turned_[i]) {
+      std::fill(control.begin(), control.end(), active);
+      std::fill(shear_[i].begin(), shear_[i].end(), active);
+      continue;
+    }
     for (size_t k = 0; k < control.size(); ++k) control[k] = control_near[k] || seam_held_[i][k] ? active : intact;
     const int support = patch.support_size();
     for (size_t c = 0; c < patch.num_cells(); ++c) {

@@ -13,9 +13,12 @@
 //    Eq. 4.10), their velocity only carries their mass to the grid, and a FLIP share would let it drift away
 //    from the motion it stands for (a clamped plate's support reaction was then 1.3% off its weight).
 //  - Solid particles (Type I) take `active`: their Neo-Hookean bulk has no thin-shell bending to keep.
-//  - A shell that can crack (fracture material or cuts) runs PIC unless grid.cracking_shells is "adaptive":
-//    share 0 and no affine velocity (World). Opened crack tips and fully damaged flaps keep motion there
-//    that PIC averages away (docs/shell-model.md, "Transfer").
+//  - A shell that can crack (fracture material or cuts) runs the same shares as an intact one until damage
+//    or a crack first appears on it. From that step on it runs PIC (share 0, its affine velocity dropped),
+//    or APIC with grid.cracking_shells "adaptive_then_apic". Kept on a torn shell, the FLIP share of its
+//    intact parts, and even APIC's affine velocity, let opened crack tips and fully damaged flaps tear the
+//    render surface apart, which PIC's averaging does not (docs/shell-model.md, "Transfer";
+//    cracking_shells "adaptive" keeps the adaptive shares anyway, "pic" runs such shells as PIC throughout).
 // The shares differ between particles, so the grid's g2p restores exact linear momentum (mpm/sparse_grid.cpp).
 #include <vector>
 
@@ -28,11 +31,22 @@ class TransferShares {
   // Points the world's particle sets at per-particle share arrays.
   void attach(World& world, const scene::Model& model);
   // Rewrites every share from the current damage, plastic strain and crack state.
-  void update(const World& world, double intact, double active);
+  // A shell that turns to PIC loses its affine velocity here, hence the writable world.
+  void update(World& world, double intact, double active);
+  // Whether shell i has left the adaptive shares because damage or a crack appeared on it
+  // (GridSettings::turns_once_damaged).
+  bool turned(size_t shell) const { return shell < turned_.size() && turned_[shell]; }
 
  private:
+  // Turns every shell that may leave the adaptive shares, and is damaged or cracked, with its seam group.
+  void turn_damaged_shells(World& world);
+
   std::vector<std::vector<double>> control_, shear_, solid_;
   std::vector<unsigned char> pic_shell_;  // per shell: can crack, runs PIC (GridSettings::adaptive_shell)
+  std::vector<unsigned char> turns_;      // per shell: leaves the adaptive shares once damaged
+  bool turn_to_pic_ = true;               // ... for PIC (else APIC)
+  std::vector<unsigned char> turned_;     // per shell: has turned (stays so: healed damage does not undo it)
+  std::vector<size_t> seam_group_;        // per shell: the shells tied to it by coupled seams share a value
   std::vector<std::vector<unsigned char>> seam_held_;  // per shell and control point: set by a seam
   std::vector<unsigned char> cell_active_;  // scratch, per cell of the shell being updated
 };

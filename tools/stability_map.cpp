@@ -235,8 +235,9 @@ std::vector<StabilityCase> stability_cases(bool full, const RunLimits& limits) {
     }
   };
 
-  // The bench scenes fix "pic"; the adaptive transfer (the product's default, which runs shells that can
-  // crack on PIC unless cracking_shells says otherwise) and APIC beside it.
+  // The bench scenes fix "pic"; the adaptive transfer (the product's default, under which a shell that can
+  // crack turns to PIC once damaged), the same with the adaptive shares kept on cracking shells
+  // (cracking_shells "adaptive"), and APIC beside them.
   auto add_transfer_variants = [&](const StabilityCase& base, bool can_crack) {
     for (const std::string transfer : {"adaptive", "apic"}) {
       StabilityCase c = base;

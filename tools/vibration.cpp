@@ -17,10 +17,18 @@ constexpr double kPi = 3.14159265358979323846;
 // The scene's "grid" object, or "grid": {} for the scene default ("default").
 std::string grid_json(const TransferChoice& t) {
   std::ostringstream os;
-  if (t.transfer == "default") return R"("grid": {})";
   os.precision(17);
-  os << R"("grid": {"transfer": ")" << t.transfer << '"';
-  if (t.flip >= 0) os << R"(, "flip_ratio": )" << t.flip;
+  os << R"("grid": {)";
+  const char* separator = "";
+  if (t.transfer != "default") {
+    os << R"("transfer": ")" << t.transfer << '"';
+    separator = ", ";
+  }
+  if (t.flip >= 0) {
+    os << separator << R"("flip_ratio": )" << t.flip;
+    separator = ", ";
+  }
+  if (!t.cracking_shells.empty()) os << separator << R"("cracking_shells": ")" << t.cracking_shells << '"';
   os << "}";
   return os.str();
 }
@@ -79,12 +87,22 @@ VibrationResult simply_supported_plate(const PlateVibrationCase& c) {
       pins << (first ? "" : ",") << '[' << i << ',' << j << ']';
       first = false;
     }
+  // Failure stress and a fracture energy ten times the grid's minimum (docs/scene-format.md).
+  const double failure_stress = 0.1 * c.youngs_modulus;
+  const double fracture_energy =
+      10 * failure_stress * failure_stress * std::sqrt(3.0) * (a / c.cells) / (2 * c.youngs_modulus);
+  std::ostringstream fracture;
+  fracture.precision(17);
+  if (c.breakable)
+    fracture << R"(, "fracture": {"failure_stress": )" << failure_stress << R"(, "fracture_energy": )" << fracture_energy
+             << "}";
   std::ostringstream js;
   js.precision(17);
   js << R"({"name": "ss_plate", "gravity": [0, 0, 0], "time": {"cfl": )" << c.cfl << "}, " << grid_json(c.transfer)
      << R"(, "shells": [{"name": "plate", "patch": {"type": "flat", "size": [)" << a << ',' << a << R"(], "cells": [)"
      << c.cells << ',' << c.cells << R"(]}, "thickness": )" << t << R"(, "material": {"E": )" << c.youngs_modulus
-     << R"(, "nu": )" << c.poisson_ratio << R"(, "density": )" << c.density << R"(}}],
+     << R"(, "nu": )" << c.poisson_ratio << R"(, "density": )" << c.density
+     << fracture.str() << R"(}}],
      "pins": [{"shell": "plate", "control_points": [)"
      << pins.str() << "]}]}";
   sim::Simulation sim(scene::build_model(js.str(), "ss_plate.json"));

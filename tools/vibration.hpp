@@ -14,6 +14,7 @@ namespace shellfrac::tools {
 struct TransferChoice {
   std::string transfer = "aflip";
   double flip = -1;  // < 0: the scene default for that transfer
+  std::string cracking_shells;  // grid.cracking_shells when not empty
 };
 
 struct PlateVibrationCase {
@@ -25,6 +26,9 @@ struct PlateVibrationCase {
   double periods = 5;        // simulated time in reference periods (a little more is run, see .cpp)
   double amplitude = 1e-3;   // centre deflection amplitude of the initial velocity field, in units of a
   TransferChoice transfer;
+  // A fracture material whose failure stress (0.1 E, a strain of 10%) the vibration never reaches: the
+  // plate can crack (Shell::can_crack) and runs whatever transfer the scene gives such shells, but never does.
+  bool breakable = false;
 };
 
 struct VibrationResult {

@@ -23,14 +23,17 @@ std::string half_cut_sheet(const std::string& grid) {
       "cuts": [{"points": [[0.5, 0.0], [0.5, 0.5]]}]}]})";
 }
 
-// The cut sheet can crack, so the adaptive transfer runs it only with cracking_shells "adaptive".
+// The cut sheet can crack: by default it turns to PIC at its first step (the cut is a crack), and
+// cracking_shells "adaptive" keeps the adaptive shares on it.
 const char* kAdaptive = R"("grid": {"transfer": "adaptive", "cracking_shells": "adaptive"},)";
 
 TEST(AdaptiveTransfer, ShareOneOnIntactAndZeroBesideTheCut) {
   const scene::Model model = scene::build_model(half_cut_sheet(kAdaptive), "cut.json");
   EXPECT_TRUE(model.grid.adaptive);
-  // By default a shell that can crack runs PIC; with no other shell the whole scene is PIC.
-  EXPECT_FALSE(scene::build_model(half_cut_sheet(""), "cut.json").grid.adaptive);
+  // By default a shell that can crack runs the adaptive transfer too; with cracking_shells "pic" and no
+  // other shell the whole scene is PIC.
+  EXPECT_TRUE(scene::build_model(half_cut_sheet(""), "cut.json").grid.adaptive);
+  EXPECT_FALSE(scene::build_model(half_cut_sheet(R"("grid": {"cracking_shells": "pic"},)"), "cut.json").grid.adaptive);
   EXPECT_TRUE(model.grid.apic);
   EXPECT_EQ(model.grid.flip, 1.0);
   EXPECT_EQ(model.grid.flip_active, 0.0);
@@ -58,16 +61,61 @@ TEST(AdaptiveTransfer, ShareOneOnIntactAndZeroBesideTheCut) {
   EXPECT_GT(far_intact, 0u);
 }
 
-// The default transfer is adaptive; a shell that can crack (here: a prescribed cut) runs PIC beside an intact
-// shell that runs affine-FLIP: shares 0, no affine velocity and no FLIP part, and its shear particles keep
-// half of the cell mass as under PIC.
-TEST(AdaptiveTransfer, ByDefaultAShellThatCanCrackRunsPic) {
-  const scene::Model model = scene::build_model(R"({"name": "two", "gravity": [0, -9.81, 0],
+// Two shells side by side, one intact and one with a prescribed cut, under the transfer `grid`.
+scene::Model intact_and_cut(const std::string& grid) {
+  return scene::build_model(R"({"name": "two", "gravity": [0, -9.81, 0], )" + grid + R"(
     "shells": [{"name": "intact", "patch": {"type": "flat", "size": [0.4, 0.2], "cells": [8, 4]},
                 "thickness": 0.001, "material": {"E": 1e5, "nu": 0.3, "density": 200}},
                {"name": "cut", "patch": {"type": "flat", "size": [0.4, 0.2], "cells": [8, 4], "origin": [0, 0, 0.5]},
                 "thickness": 0.001, "material": {"E": 1e5, "nu": 0.3, "density": 200},
                 "cuts": [{"points": [[0.5, 0.0], [0.5, 0.5]]}]}]})", "two.json");
+}
+
+// Shear particles' share of the shell's mass.
+double shear_mass_share(const shell::ShellPatch& p) {
+  double shear = 0, total = 0;
+  for (double m : p.shear.mass) shear += m;
+  for (double m : p.mass) total += m;
+  return shear / (shear + total);
+}
+
+// The default transfer is adaptive, and a shell that can crack runs it like an intact one (0.2 of the cell
+// mass on its shear particles, an affine velocity and a FLIP part) until a crack appears on it; a cut is
+// one from the start, so at the first step the cut shell turns to PIC (every share 0, no affine velocity)
+// while the intact shell beside it keeps share 1. With cracking_shells "adaptive_then_apic" it keeps its
+// affine velocity (APIC).
+TEST(AdaptiveTransfer, ByDefaultACutShellTurnsPicBesideAnIntactOne) {
+  for (const char* grid : {"", R"("grid": {"cracking_shells": "adaptive_then_apic"},)"}) {
+    const bool apic = *grid != 0;
+    const scene::Model model = intact_and_cut(grid);
+    EXPECT_TRUE(model.grid.adaptive);
+    EXPECT_TRUE(model.grid.adaptive_shell(model.shells[0]));
+    EXPECT_TRUE(model.grid.adaptive_shell(model.shells[1]));
+    EXPECT_FALSE(model.grid.turns_once_damaged(model.shells[0]));
+    EXPECT_TRUE(model.grid.turns_once_damaged(model.shells[1]));
+    Simulation sim(model);
+    const World& w = sim.world();
+    EXPECT_NE(w.particle_sets()[w.control_set(1)].affine, nullptr);  // before the first step: adaptive
+    for (int s = 0; s < 5; ++s) sim.step(0.5 * sim.stable_dt());
+    const mpm::ParticleSet& intact = w.particle_sets()[w.control_set(0)];
+    const mpm::ParticleSet& cut = w.particle_sets()[w.control_set(1)];
+    const mpm::ParticleSet& cut_shear = w.particle_sets()[w.shear_set(1)];
+    for (size_t k = 0; k < intact.count; ++k) EXPECT_EQ(intact.flip_share[k], 1.0);
+    for (size_t k = 0; k < cut.count; ++k) EXPECT_EQ(cut.flip_share[k], 0.0);
+    for (size_t c = 0; c < cut_shear.count; ++c) EXPECT_EQ(cut_shear.flip_share[c], 0.0);
+    EXPECT_FALSE(sim.transfer_turned(0));
+    EXPECT_TRUE(sim.transfer_turned(1));
+    EXPECT_NE(intact.affine, nullptr);
+    EXPECT_EQ(cut.affine != nullptr, apic);
+    EXPECT_NEAR(shear_mass_share(w.shell(0)), 0.2, 1e-12);
+    EXPECT_NEAR(shear_mass_share(w.shell(1)), 0.2, 1e-12);
+  }
+}
+
+// cracking_shells "pic" keeps the earlier rule: the cut shell runs PIC (shares 0, no affine velocity, no
+// FLIP part, half of the cell mass on its shear particles) beside the intact shell's affine-FLIP.
+TEST(AdaptiveTransfer, CrackingShellsPicRunsACutShellAsPic) {
+  const scene::Model model = intact_and_cut(R"("grid": {"cracking_shells": "pic"},)");
   EXPECT_TRUE(model.grid.adaptive);
   EXPECT_TRUE(model.grid.adaptive_shell(model.shells[0]));
   EXPECT_FALSE(model.grid.adaptive_shell(model.shells[1]));
@@ -81,16 +129,8 @@ TEST(AdaptiveTransfer, ByDefaultAShellThatCanCrackRunsPic) {
   EXPECT_NE(intact.affine, nullptr);
   EXPECT_EQ(cut.affine, nullptr);
   EXPECT_EQ(cut.flip_part, nullptr);
-  // Shear particles: 0.2 of the cell mass on the adaptive shell, 0.5 (PIC's) on the other.
-  auto shear_share = [&](size_t i) {
-    const shell::ShellPatch& p = w.shell(i);
-    double shear = 0, total = 0;
-    for (double m : p.shear.mass) shear += m;
-    for (double m : p.mass) total += m;
-    return shear / (shear + total);
-  };
-  EXPECT_NEAR(shear_share(0), 0.2, 1e-12);
-  EXPECT_NEAR(shear_share(1), 0.5, 1e-12);
+  EXPECT_NEAR(shear_mass_share(w.shell(0)), 0.2, 1e-12);
+  EXPECT_NEAR(shear_mass_share(w.shell(1)), 0.5, 1e-12);
 }
 
 TEST(AdaptiveTransfer, ElasticSheetWithoutCracksRunsItsControlPointsAsAffineFlip) {
@@ -166,7 +206,7 @@ TEST(AdaptiveTransfer, ShareKeysAreCheckedAndReachTheModel) {
       "c.json");
   EXPECT_EQ(m.grid.flip, 0.995);
   EXPECT_EQ(m.grid.flip_active, 0.5);
-  EXPECT_TRUE(m.grid.adaptive_cracking);
+  EXPECT_EQ(m.grid.cracking, scene::model::GridSettings::CrackingShells::Adaptive);
   const scene::Model pic = scene::build_model(half_cut_sheet(R"("grid": {"transfer": "pic"},)"), "c.json");
   EXPECT_FALSE(pic.grid.adaptive);
   EXPECT_EQ(pic.grid.flip, 0.0);
