@@ -411,7 +411,9 @@ void check_budget(const ResourceEstimate& e, const ResourceBudget& b, const std:
     const ResourceItem& big = e.largest();
     throw SceneError(source, big.json_path,
                      "the scene needs about " + format_bytes(e.memory_bytes) + " of memory, more than the budget of " +
-                         format_bytes(b.memory_bytes) + " (--max-memory; default: the available memory); the largest part is " +
+                         format_bytes(b.memory_bytes) + " (" +
+                         (b.memory_source.empty() ? std::string("--max-memory; default: the available memory") : b.memory_source) +
+                         "); the largest part is " +
                          number(std::ceil(big.count)) + " " + big.what + " (" + format_bytes(big.bytes) + ")");
   }
   if (e.frames > INT_MAX)
