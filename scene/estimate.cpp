@@ -1,12 +1,20 @@
 // The resource estimate of a scene (scene/estimate.hpp). The bytes per element below are set from
-// measurements of this build (peak resident memory 567 MiB and 118 bytes of OBJ per render vertex for a
-// flat sheet of 200^2 cells rendered at 400^2; issue 14's 4096^2 render passing 8 GB) and rounded up, so
-// the estimate errs on the large side; the element counts follow the build: a flat or curved patch
+// measurements of this build (peak resident memory of `run` over one step and the first frame, less the
+// program's own 45 MB) and rounded up, so the estimate errs on the large side: a flat sheet of 200^2
+// cells rendered at 400^2 peaked at 778 MiB (about 300 bytes per quadrature point); box solids of 1e6
+// to 8e6 particles at 650 to 675 bytes per particle; level sets of 2e6 to 2.3e7 narrow-band voxels at
+// 38 to 48 bytes per voxel (OpenVDB's distance and closest-triangle grids while the band is built);
+// renders of 512^2 to 2048^2 at 256 to 377 bytes per render vertex, and 118 bytes of OBJ per vertex.
+// The element counts follow the build: a flat or curved patch
 // is quadratic with cells + 2 control points per direction (cells + pieces + 1 around a cylinder or
 // cone, whose arc is made of rational pieces of at most 90 degrees), a control net gains (refine - 1)
 // control points per non-empty knot span, each cell carries points^2 x layers quadrature points and one
 // shear particle. The grid blocks of a shell are counted from its particles' positions (the patch's
 // control net and cell centres, built as the build builds them) when there are at most a few million.
+// A solid has volume / spacing^3 particles (the jittered and Poisson-disk samplers keep about one per
+// spacing^3 cell inside the shape); a mesh level set has the voxels of a band of 2 x band_voxels voxels
+// around the surface (meshToLevelSet fills band_voxels on each side, nothing deeper inside), at most
+// the voxels of the mesh's bounding box grown by the band.
 #include "scene/estimate.hpp"
 
 #include <algorithm>
@@ -32,13 +40,13 @@ namespace {
 
 constexpr double kBaseBytes = 64.0 * (1 << 20);   // the program, its libraries and thread stacks
 constexpr double kControlPointBytes = 400;         // positions, velocities, masses, forces, pins, MLS data
-constexpr double kQuadraturePointBase = 120;       // F, stress, damage, plastic state, positions
+constexpr double kQuadraturePointBase = 180;       // F, stress, damage, plastic state, positions
 constexpr double kBasisFunctionBytes = 14;         // per support function and point (bases are shared per cell)
 constexpr double kShearParticleBytes = 600;
-constexpr double kSolidParticleBytes = 320;        // measured 298 (a box of 4.7e7 particles peaked at 13.9 GB)
+constexpr double kSolidParticleBytes = 700;        // measured 650 to 675 over the first step (box of 8e6: 5.1 GiB)
 constexpr double kGridBlockBytes = 64 * 160.0;     // a 4^3 block of nodes: mass, momentum, velocity, force, ...
 constexpr double kRenderVertexBytes = 500;         // tessellation, shadow vertices, faces and the exporter's text
-constexpr double kLevelSetVoxelBytes = 24;         // distance and closest-triangle grids with tree overhead
+constexpr double kLevelSetVoxelBytes = 48;         // distance and closest-triangle grids with tree overhead
 constexpr double kDiskBytesPerRenderVertex = 120;  // OBJ text: v, vt, vn lines and a share of the faces
 // The sparse grid packs block coordinates in 21 bits (mpm/sparse_grid.cpp): |x| / (4 dx) < 2^20.
 constexpr double kGridReachCells = 4.0 * (1 << 20);
@@ -133,6 +141,14 @@ MeshStats read_mesh(const Scene& scene, const MeshFile& m, const std::string& pa
   } catch (const std::exception& e) {
     throw SceneError(scene.source, path + "/file", file.string() + ": " + e.what());
   }
+}
+
+// The narrow-band voxels of a mesh level set: 2 x band voxels thick over the surface's area, but never
+// more than the voxels of the bounding box grown by the band on every side (small or thin meshes).
+double band_voxels(double area, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double voxel, double band) {
+  const double sheet = area / (voxel * voxel) * 2.0 * band;
+  const Eigen::Vector3d cells = ((hi - lo) / voxel).array() + 2.0 * band + 1.0;
+  return std::min(sheet, cells.prod());
 }
 
 double wave_speed(double E, double nu, double density) { return std::sqrt(E / (density * (1 - nu * nu))); }
@@ -292,7 +308,7 @@ ResourceEstimate estimate_resources(const Scene& input) {
     particles += n;
     blocks += std::min(8.0 * n, s.volume / std::pow(block, 3) + s.area / (block * block));
     if (s.voxel > 0) {
-      const double voxels = s.area / (s.voxel * s.voxel) * 2.0 * s.band;
+      const double voxels = band_voxels(s.area, s.box.lo, s.box.hi, s.voxel, s.band);
       e.memory.push_back({name + "level-set voxels", voxels, voxels * kLevelSetVoxelBytes,
                           path + (in.mesh.voxel_size ? "/voxel_size" : "/spacing")});
     }
@@ -303,7 +319,7 @@ ResourceEstimate estimate_resources(const Scene& input) {
     const std::string path = "/colliders/" + std::to_string(i);
     const MeshStats m = read_mesh(scene, c.mesh, path);
     const double voxel = *c.mesh.voxel_size;
-    const double voxels = m.area / (voxel * voxel) * 2.0 * c.mesh.band_voxels.value_or(3.0);
+    const double voxels = band_voxels(m.area, m.lo, m.hi, voxel, c.mesh.band_voxels.value_or(3.0));
     e.memory.push_back({"collider \"" + c.name.value_or("collider" + std::to_string(i)) + "\" level-set voxels", voxels,
                         voxels * kLevelSetVoxelBytes, path + "/voxel_size"});
   }
@@ -411,7 +427,9 @@ void check_budget(const ResourceEstimate& e, const ResourceBudget& b, const std:
     const ResourceItem& big = e.largest();
     throw SceneError(source, big.json_path,
                      "the scene needs about " + format_bytes(e.memory_bytes) + " of memory, more than the budget of " +
-                         format_bytes(b.memory_bytes) + " (--max-memory; default: the available memory); the largest part is " +
+                         format_bytes(b.memory_bytes) + " (" +
+                         (b.memory_source.empty() ? std::string("--max-memory; default: the available memory") : b.memory_source) +
+                         "); the largest part is " +
                          number(std::ceil(big.count)) + " " + big.what + " (" + format_bytes(big.bytes) + ")");
   }
   if (e.frames > INT_MAX)

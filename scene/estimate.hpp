@@ -52,6 +52,7 @@ struct ResourceBudget {
   double max_frames = 1e5;
   std::optional<double> free_disk_bytes;    // free space where the frames go, when known
   bool force = false;
+  std::string memory_source;                // what set memory_bytes, for the message ("": --max-memory)
 };
 
 // Throws SceneError (file = source, path = the driving value, exit code 2) when the estimate is over

@@ -13,7 +13,7 @@ namespace shellfrac::tools {
 
 struct RunLimits {
   // Memory and steps (frames and disk do not apply: bench scenes write no frames). Default: no limit.
-  scene::ResourceBudget budget{0, 1e300, 1e300, std::nullopt, true};
+  scene::ResourceBudget budget{0, 1e300, 1e300, std::nullopt, true, ""};
   // Asked between steps; true ends the bench with output::Interrupted.
   std::function<bool()> should_stop;
 };

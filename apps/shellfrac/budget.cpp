@@ -1,5 +1,6 @@
 #include "apps/shellfrac/budget.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -7,6 +8,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/memory_limits.hpp"
 
 namespace shellfrac::app {
 
@@ -19,33 +21,8 @@ void add_budget_options(CLI::App* command, BudgetArguments& args, bool with_forc
     command->add_option("--max-frames", args.max_frames, "Frame budget (more needs --force)")->capture_default_str();
   if (with_force)
     command->add_flag("--force", args.force,
-                      with_frames ? "Run even over the step, frame or free-disk budget (never over memory)"
-                                  : "Run even over the step budget (never over memory)");
-}
-
-double available_memory_bytes() {
-  double available = 0;
-  std::ifstream meminfo("/proc/meminfo");
-  std::string key;
-  double value = 0;
-  std::string unit;
-  while (meminfo >> key >> value) {
-    std::getline(meminfo, unit);
-    if (key == "MemAvailable:") {
-      available = value * 1024.0;  // reported in kB
-      break;
-    }
-  }
-  std::ifstream cgroup("/sys/fs/cgroup/memory.max");
-  std::string limit;
-  if (cgroup >> limit && limit != "max") {
-    const double bytes = std::strtod(limit.c_str(), nullptr);
-    double used = 0;
-    std::ifstream current("/sys/fs/cgroup/memory.current");
-    current >> used;
-    if (bytes > 0 && (available == 0 || bytes - used < available)) available = std::max(0.0, bytes - used);
-  }
-  return available;
+                      with_frames ? "Allow a run over the step, frame or free-disk budget (never over memory)"
+                                  : "Allow a run over the step budget (never over memory)");
 }
 
 double parse_memory_size(const std::string& text) {
@@ -70,9 +47,20 @@ double parse_memory_size(const std::string& text) {
   return number * factor;
 }
 
-scene::ResourceBudget make_budget(const BudgetArguments& args, const std::string& out_dir) {
+scene::ResourceBudget make_budget(const BudgetArguments& args, const std::string& out_dir, int threads) {
   scene::ResourceBudget b;
-  b.memory_bytes = args.max_memory.empty() ? available_memory_bytes() : parse_memory_size(args.max_memory);
+  if (!args.max_memory.empty()) b.memory_bytes = parse_memory_size(args.max_memory);
+  core::MemoryLimitSources sources;
+  sources.threads = threads;
+  for (const core::MemoryLimit& l : core::memory_limits(sources)) {
+    if (!l.hard && !args.max_memory.empty()) continue;  // --max-memory replaces the available memory
+    const double left = std::max(1.0, l.headroom);       // 0 would mean "no limit"
+    if (b.memory_bytes > 0 && left >= b.memory_bytes) continue;
+    b.memory_bytes = left;
+    b.memory_source = l.hard ? "what is left under " + l.name + " of " + scene::format_bytes(l.limit) +
+                                   ", which --max-memory cannot raise"
+                             : "";
+  }
   b.max_steps = args.max_steps;
   b.max_frames = args.max_frames;
   b.force = args.force;

@@ -1,6 +1,7 @@
 #pragma once
-// The resource budget of `run` and `validate` (issue 14): --max-memory (default: the memory available
-// to this process), the step and frame budgets and --force, and the free disk where the frames go.
+// The resource budget of `run` and `validate` (issues 14, 28): --max-memory (default: the memory available
+// to this process, within its cgroup and rlimits), the step and frame budgets and --force, and the free
+// disk where the frames go.
 #include <CLI/CLI.hpp>
 
 #include <memory>
@@ -27,7 +28,11 @@ double available_memory_bytes();
 // "8G" -> 8 GiB, "512M", "64K", plain bytes. Throws core::InputError naming --max-memory.
 double parse_memory_size(const std::string& text);
 
-// The budget for a run writing into out_dir (free disk measured at out_dir or its nearest existing parent).
-scene::ResourceBudget make_budget(const BudgetArguments& args, const std::string& out_dir);
+// The budget for a run writing into out_dir with `threads` workers (0: all cores). Memory: --max-memory,
+// or by default what is available (MemAvailable); either way no more than what is left under the hard
+// limits the process runs under (cgroup memory limits, RLIMIT_AS, RLIMIT_DATA: core/memory_limits.hpp),
+// so a scene that would be killed or fail an allocation is refused instead. Free disk is measured at
+// out_dir or its nearest existing parent.
+scene::ResourceBudget make_budget(const BudgetArguments& args, const std::string& out_dir, int threads = 0);
 
 }  // namespace shellfrac::app

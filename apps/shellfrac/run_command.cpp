@@ -49,7 +49,7 @@ Command add_run_command(CLI::App& app) {
       const scene::Scene scene = load_scene_or_default(args->scene_path);
       // Refuse before anything big is allocated (the build samples solids and level sets).
       const scene::ResourceEstimate estimate = scene::estimate_resources(scene);
-      scene::check_budget(estimate, make_budget(args->budget, args->out_dir), scene.source);
+      scene::check_budget(estimate, make_budget(args->budget, args->out_dir, args->threads), scene.source);
       const scene::Model model = scene::build(scene);
       output::RunOptions options;
       options.out_dir = args->out_dir;

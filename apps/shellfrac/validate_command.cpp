@@ -1,6 +1,7 @@
-// `shellfrac validate SCENE [--max-memory SIZE]`: checks a scene without running it and prints its
-// resource estimate. A scene over the memory budget is refused before anything is allocated; step,
-// frame and disk budgets are warnings here (run refuses them without --force).
+// `shellfrac validate SCENE [--max-memory SIZE] [--max-steps N] [--max-frames N] [--force]`: checks a
+// scene without running it and prints its resource estimate. It refuses (exit 2) exactly what `run`
+// would refuse, before anything is allocated: memory over the budget always, the step and frame
+// budgets unless --force is given (then they are warnings).
 #include <iostream>
 #include <memory>
 
@@ -28,16 +29,17 @@ Command add_validate_command(CLI::App& app) {
                                                   "summary and the resource estimate, or the first problem "
                                                   "with its JSON path.");
   validate->add_option("scene", args->path, "Scene file (JSON)")->required();
-  add_budget_options(validate, args->budget, false);
+  add_budget_options(validate, args->budget, true);
   return [validate, args]() -> std::optional<int> {
     if (!validate->parsed()) return std::nullopt;
     return run_guarded([&] {
       const scene::Scene scene = load_scene_or_default(args->path);
       const scene::ResourceEstimate estimate = scene::estimate_resources(scene);
-      scene::ResourceBudget budget = make_budget(args->budget, "");
-      const std::vector<std::string> warnings = scene::budget_warnings(estimate, budget);
-      budget.force = true;  // memory only: the rest are warnings below
+      // The same check as run's (exit 2 for whatever run would refuse); with --force the step and frame
+      // budgets are only warnings, as they are for run --force.
+      const scene::ResourceBudget budget = make_budget(args->budget, "");
       scene::check_budget(estimate, budget, scene.source);
+      const std::vector<std::string> warnings = scene::budget_warnings(estimate, budget);
       const scene::Model model = scene::build(scene);
       // Build the simulation too: some checks need the grid (the stability bound of a given dt, the
       // fracture energy against the characteristic length), and solids must sample particles.

@@ -121,25 +121,63 @@ TEST(CrackSurface, PennyShapedDiscIsAPartialCrackInOneFragment) {
   EXPECT_EQ(occupied_regions(c, r, box.x).size(), 1u);
 }
 
-TEST(CrackSurface, DegenerateDamageNeverCrashes) {
-  // No damage at all: no crack, one region.
+// |sum of the diagram's cell volumes - volume of its box| / volume of its box (0 for an empty diagram).
+double tiling_error(const CrackExtraction& c) {
+  double volume = 0;
+  for (double v : c.diagram.cell_volume) volume += v;
+  const double box = (c.diagram.box_hi - c.diagram.box_lo).prod();
+  return c.diagram.cell_volume.empty() ? 0.0 : std::abs(volume - box) / box;
+}
+
+TEST(CrackSurface, DegenerateDamageGivesNoCrack) {
+  // No damage at all: no crack face, no crack triangle, and one region holding every particle.
   const DamagedBox intact(kL, kS, [](const Vec3&) { return false; });
   const CrackExtraction none = extract_crack(intact.x, intact.c_his, options());
   EXPECT_TRUE(none.empty());
+  EXPECT_EQ(none.count_D, 0u);
+  EXPECT_EQ(crack_surface_mesh(none).triangles.size(), 0u);
+  EXPECT_LT(tiling_error(none), 1e-9);  // the cells tile their box
   EXPECT_EQ(find_regions(none.diagram, none.crack_face).count, 1);
-  // Damage only in a skin at the boundary: whatever is cut off, the body keeps nearly all particles.
+  EXPECT_EQ(occupied_regions(none, find_regions(none.diagram, none.crack_face), intact.x),
+            std::vector<size_t>{intact.x.size()});
+  // Damage in a skin one particle layer thick (kS = h_v / 2) on the x = +L face: it has undamaged
+  // material on one side only, so there is no medial surface between intact parts and nothing is cut
+  // off: no crack face, and all 8000 particles in the one region.
   const DamagedBox skin(kL, kS, [](const Vec3& p) { return p.x() > kL - kS; });
+  ASSERT_EQ(skin.x.size(), 8000u);
   const CrackExtraction sc = extract_crack(skin.x, skin.c_his, options());
+  EXPECT_GT(sc.count_D, 0u);  // the skin did damage nodes ...
+  EXPECT_TRUE(sc.empty());    // ... but no face separates anything
+  EXPECT_EQ(sc.interior_faces, 0u);
+  EXPECT_EQ(sc.extension_faces, 0u);
+  EXPECT_EQ(crack_surface_mesh(sc).triangles.size(), 0u);
+  EXPECT_LT(tiling_error(sc), 1e-9);
   const Regions sr = find_regions(sc.diagram, sc.crack_face);
-  const std::vector<size_t> occupied = occupied_regions(sc, sr, skin.x);
-  ASSERT_GE(occupied.size(), 1u);
-  EXPECT_GE(*std::max_element(occupied.begin(), occupied.end()), static_cast<size_t>(0.9 * skin.x.size()));
-  // Everything damaged: one fully damaged block; the medial faces do not cut off the surface.
+  EXPECT_EQ(sr.count, 1);
+  EXPECT_EQ(occupied_regions(sc, sr, skin.x), std::vector<size_t>{8000u});
+  // Everything damaged: no node is undamaged (V is empty), so there are no two intact sides for a medial
+  // face to lie between: the crack is empty.
   const DamagedBox all(kL, kS, [](const Vec3&) { return true; });
-  EXPECT_NO_THROW(extract_crack(all.x, all.c_his, options()));
-  // A single particle and no particles.
-  EXPECT_NO_THROW(extract_crack({Vec3(0, 0, 0)}, {1.0}, options()));
-  EXPECT_TRUE(extract_crack({}, {}, options()).empty());
+  const CrackExtraction ac = extract_crack(all.x, all.c_his, options());
+  EXPECT_EQ(ac.count_V, 0u);
+  EXPECT_GT(ac.count_D, 0u);
+  EXPECT_TRUE(ac.empty());
+  EXPECT_EQ(crack_surface_mesh(ac).triangles.size(), 0u);
+  // A single particle, damaged (again no undamaged node, no crack) or intact (one region holding it).
+  const CrackExtraction one = extract_crack({Vec3(0, 0, 0)}, {1.0}, options());
+  EXPECT_EQ(one.count_V, 0u);
+  EXPECT_TRUE(one.empty());
+  const CrackExtraction one_intact = extract_crack({Vec3(0, 0, 0)}, {0.0}, options());
+  EXPECT_TRUE(one_intact.empty());
+  EXPECT_LT(tiling_error(one_intact), 1e-9);
+  const Regions r1 = find_regions(one_intact.diagram, one_intact.crack_face);
+  EXPECT_EQ(r1.count, 1);
+  EXPECT_EQ(occupied_regions(one_intact, r1, {Vec3(0, 0, 0)}), std::vector<size_t>{1u});
+  // No particles: no grid nodes, no sites, an empty diagram.
+  const CrackExtraction nothing = extract_crack({}, {}, options());
+  EXPECT_TRUE(nothing.empty());
+  EXPECT_EQ(nothing.count_B, 0u);
+  EXPECT_TRUE(nothing.diagram.cell_volume.empty());
 }
 
 TEST(CrackSurface, BadOptionsAreRefusedBeforeAllocating) {

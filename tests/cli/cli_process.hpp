@@ -15,9 +15,10 @@ struct Result {
   std::string output;  // stdout and stderr
 };
 
-// `shellfrac ARGS` through the shell; exit code -1 when it did not exit normally (a signal).
-inline Result run_shellfrac(const std::string& args) {
-  const std::string cmd = std::string(SHELLFRAC_BIN) + " " + args + " 2>&1";
+// `PREFIX shellfrac ARGS` through the shell (PREFIX: a wrapper such as `prlimit --as=N`, or nothing);
+// exit code -1 when it did not exit normally (a signal).
+inline Result run_shellfrac_under(const std::string& prefix, const std::string& args) {
+  const std::string cmd = prefix + (prefix.empty() ? "" : " ") + std::string(SHELLFRAC_BIN) + " " + args + " 2>&1";
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (!pipe) return {-1, "popen failed"};
   std::string out;
@@ -27,6 +28,9 @@ inline Result run_shellfrac(const std::string& args) {
   const int status = ::pclose(pipe);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
+
+// `shellfrac ARGS` through the shell; exit code -1 when it did not exit normally (a signal).
+inline Result run_shellfrac(const std::string& args) { return run_shellfrac_under("", args); }
 
 // An empty folder TMP/shellfrac-<suite>-<name>-<pid>.
 inline std::filesystem::path scratch_folder(const std::string& suite, const std::string& name) {

@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -142,18 +143,90 @@ TEST(CliRobust, ValidatePrintsTheEstimateAndRunRefusesOverBudget) {
     EXPECT_THAT(r.output, HasSubstr("more than the budget of 8.0 GiB"));
   }
   EXPECT_FALSE(fs::exists(d / "out"));
-  // A run of a billion frames: run refuses it without --force, validate warns.
+  // A run of a billion frames: run and validate refuse it without --force; validate --force warns.
   const std::string many = cloth(R"({"end": 1, "frame_rate": 1e9})");
   const Result refused = run_text(d, many);
   EXPECT_EQ(refused.exit_code, 2) << refused.output;
   EXPECT_THAT(refused.output, HasSubstr("/time/frame_rate: the run would write 1000000001 frames"));
   EXPECT_THAT(refused.output, HasSubstr("--force runs it anyway"));
-  const Result warned = validate_text(d, many);
+  const Result warned = validate_text(d, many, "--force");
   EXPECT_EQ(warned.exit_code, 0) << warned.output;
   EXPECT_THAT(warned.output, HasSubstr("warning: /time/frame_rate"));
   const Result steps = run_text(d, cloth(R"({"end": 1, "dt": 1e-300})"));
   EXPECT_EQ(steps.exit_code, 2) << steps.output;
   EXPECT_THAT(steps.output, HasSubstr("/time/dt: the run would take about"));
+  fs::remove_all(d);
+}
+
+// issue 28: `validate` said OK (with a warning) to six scenes `run` then refused. Both now apply the
+// same check (scene::check_budget): exit 2 at the same JSON path, saying --force would run it; with
+// --force validate accepts them and warns.
+TEST(CliRobust, ValidateRefusesWhatRunRefuses) {
+  const fs::path d = scratch("agree");
+  const std::string material = R"({"E": 1e5, "nu": 0.3, "density": 300})";
+  auto with_material = [&](const std::string& m) {
+    std::string text = cloth(R"({"end": 1})");
+    return text.replace(text.find(material), material.size(), m);
+  };
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {with_material(R"({"E": 1e300, "nu": 0.3, "density": 300})"), "/shells/0/material/E"},
+      {with_material(R"({"E": 1e5, "nu": 0.3, "density": 1e-300})"), "/shells/0/material/density"},
+      {cloth(R"({"end": 1, "dt": 1e-300})"), "/time/dt"},
+      {cloth(R"({"end": 1, "cfl": 1e-300})"), "/time/cfl"},
+      {cloth(R"({"end": 1, "frame_rate": 1e9})"), "/time/frame_rate"},
+      {cloth(R"({"end": 1})", "", R"("initial_velocity": [0, 1e30, 0], )"), "/shells/0/initial_velocity"},
+  };
+  for (const auto& [text, path] : cases) {
+    SCOPED_TRACE(path);
+    const Result run = run_text(d, text);
+    const Result validate = validate_text(d, text);
+    for (const Result* r : {&run, &validate}) {
+      EXPECT_EQ(r->exit_code, 2) << r->output;
+      EXPECT_THAT(r->output, HasSubstr("s.json: " + path + ": the run would"));
+      EXPECT_THAT(r->output, HasSubstr("--force runs it anyway"));
+    }
+    const Result forced = validate_text(d, text, "--force");
+    EXPECT_EQ(forced.exit_code, 0) << forced.output;
+    EXPECT_THAT(forced.output, HasSubstr("warning: " + path));
+    EXPECT_FALSE(fs::exists(d / "out"));
+  }
+  fs::remove_all(d);
+}
+
+// issue 28: under an address-space cap (`prlimit --as`, as `ulimit -v` or a batch system sets one) the
+// memory budget is what is left under the cap. Each scene below fits the machine's RAM but not 4 GiB;
+// validate and run refuse it with exit 2 and the value to change, from the estimate alone, instead of
+// being killed while sampling particles, building a level set or writing a frame.
+TEST(CliRobust, ScenesOverAnAddressSpaceCapAreRefusedNotKilled) {
+  if (std::system("prlimit --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "prlimit is not installed";
+  const fs::path d = scratch("cap");
+  const std::string mesh = std::string(SHELLFRAC_SOURCE_DIR) + "/scenes/meshes/ellipsoid.obj";
+  const std::string material = R"("material": {"E": 1e5, "nu": 0.3, "density": 300})";
+  // The ellipsoid is 0.6 m long; scaled by 1/3 it is the issue's 0.2 m mesh.
+  const std::string small_mesh = R"("file": ")" + mesh + R"(", "scale": 0.3333333, "voxel_size": 3e-5)";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      // 1 m^3 at 0.002752 m: 4.8e7 particles, just under the 5e7 cap of the build.
+      {R"({"time": {"end": 0.01}, "solids": [{"shape": "box", "center": [0, 0, 0], "half_extents": [0.5, 0.5, 0.5],
+          "spacing": 0.002752, )" + material + "}]}",
+       "/solids/0/spacing"},
+      {R"({"time": {"end": 0.01}, "solids": [{"shape": "mesh", )" + small_mesh + R"(, "spacing": 0.01, )" + material + "}]}",
+       "/solids/0/voxel_size"},
+      {cloth(R"({"end": 0.1})", R"("colliders": [{"shape": "mesh", )" + small_mesh + "}], "), "/colliders/0/voxel_size"},
+      {R"({"time": {"end": 0}, "output": {"resolution": [4096, 4096]}, "shells": [{"name": "cloth",
+          "patch": {"type": "flat", "size": [1, 1], "cells": [8, 8]}, "thickness": 0.0005, )" + material + "}]}",
+       "/output/resolution"},
+  };
+  for (const auto& [text, path] : cases) {
+    SCOPED_TRACE(path);
+    std::ofstream(d / "s.json") << text;
+    for (const std::string& command : std::vector<std::string>{"validate", "run --threads 1 --out " + (d / "out").string()}) {
+      const Result r = shellfrac::test::run_shellfrac_under("prlimit --as=4294967296", command + " " + (d / "s.json").string());
+      EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
+      EXPECT_THAT(r.output, HasSubstr("s.json: " + path + ": the scene needs about")) << command;
+      EXPECT_THAT(r.output, HasSubstr("RLIMIT_AS")) << command;
+    }
+    EXPECT_FALSE(fs::exists(d / "out"));
+  }
   fs::remove_all(d);
 }
 

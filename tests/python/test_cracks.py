@@ -43,4 +43,6 @@ def test_render_mesh_labels_are_the_pieces(torn):
     per_label = np.bincount(labels[mesh["triangle_faces"]], weights=tri_area)
     big = np.sort(per_label[per_label >= torn.dx ** 2])
     np.testing.assert_allclose(big, np.sort(m["piece_areas"]), rtol=1e-9)
-    assert m["pieces"] >= 2  # torn in two
+    # Torn in exactly two (measured: areas 0.907 and 0.093 m^2), with no slivers beside them.
+    assert m["pieces"] == 2 and len(m["piece_areas"]) == 2
+    assert m["slivers"]["count"] == 0

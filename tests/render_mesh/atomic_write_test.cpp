@@ -1,6 +1,8 @@
 #include "render_mesh/atomic_write.hpp"
 
 #include <gtest/gtest.h>
+#include <sched.h>
+#include <sys/mount.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -10,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include "render_mesh/exporter.hpp"
@@ -95,28 +98,97 @@ TEST(StagingDirectory, RefusesAnEmptyFileAndMovesNothing) {
   fs::remove_all(d);
 }
 
+// Runs `body` in a forked child inside a private mount namespace (mounts made there are seen by no other
+// process and go away with the child). Returns the body's exit code, or -1 when this machine refuses the
+// namespace or the mount (no CAP_SYS_ADMIN, a seccomp filter), which the caller reports as a skip.
+template <class Body>
+int in_private_mount_namespace(Body body) {
+  const pid_t child = ::fork();
+  if (child == 0) {
+    if (::unshare(CLONE_NEWNS) != 0) ::_exit(100);
+    if (::mount(nullptr, "/", nullptr, MS_REC | MS_PRIVATE, nullptr) != 0) ::_exit(101);  // nothing propagates out
+    ::_exit(body());
+  }
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  if (!WIFEXITED(status)) return -2;
+  const int code = WEXITSTATUS(status);
+  return code == 100 || code == 101 || code == 102 ? -1 : code;
+}
+
+// What a write that must fail threw, recorded by the child for the parent's assertions.
+int record_failure(const fs::path& log, const std::function<void()>& write) {
+  try {
+    write();
+  } catch (const std::runtime_error& e) {
+    std::ofstream(log, std::ios::app) << e.what() << "\n";
+    return 0;
+  }
+  std::ofstream(log, std::ios::app) << "no exception\n";
+  return 1;
+}
+
 TEST(WriteFileDurably, FullDeviceThrowsWithThePathAndTheReason) {
   // /dev/full fails every write with ENOSPC, as a full disk does. The device itself must survive.
-  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
-  try {
-    write_file_durably("/dev/full", "some bytes");
-    ADD_FAILURE() << "no exception";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("/dev/full"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find(std::strerror(ENOSPC)), std::string::npos) << e.what();
+  if (fs::exists("/dev/full")) {
+    try {
+      write_file_durably("/dev/full", "some bytes");
+      ADD_FAILURE() << "no exception";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("/dev/full"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(std::strerror(ENOSPC)), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(fs::is_character_file("/dev/full"));
+    return;
   }
-  EXPECT_TRUE(fs::is_character_file("/dev/full"));
+  // Without /dev/full: a one-page tmpfs (4 KiB) in a private mount namespace, and 64 KiB to write into it.
+  const fs::path d = fresh_dir("full-tmpfs"), mnt = d / "mnt", log = d / "log";
+  fs::create_directories(mnt);
+  const int code = in_private_mount_namespace([&] {
+    if (::mount("tmpfs", mnt.c_str(), "tmpfs", MS_NOSUID | MS_NODEV, "size=4k") != 0) return 102;
+    const int r = record_failure(log, [&] { write_file_durably(mnt / "big.bin", std::string(64 << 10, 'x')); });
+    // The failed file is removed again: the tmpfs is empty.
+    return r + (fs::is_empty(mnt) ? 0 : 2);
+  });
+  if (code == -1) GTEST_SKIP() << "no /dev/full and no tmpfs mount allowed here";
+  const std::string what = slurp(log);
+  EXPECT_EQ(code, 0) << what;  // 1: no exception, 2: a partial file left
+  EXPECT_NE(what.find((mnt / "big.bin").string()), std::string::npos) << what;
+  EXPECT_NE(what.find(std::strerror(ENOSPC)), std::string::npos) << what;
+  fs::remove_all(d);
 }
 
 TEST(WriteFileDurably, ReadOnlyDirectoryThrows) {
-  if (::geteuid() == 0) GTEST_SKIP() << "running as root: permissions do not stop writes";
-  const fs::path d = fresh_dir("read-only");
-  fs::permissions(d, fs::perms::owner_read | fs::perms::owner_exec);
-  EXPECT_THROW(write_file_atomically(d / "summary.json", "{}"), std::runtime_error);
-  EXPECT_THROW(export_meshes({}, d, "frame_00000", "obj"), std::runtime_error);
-  fs::permissions(d, fs::perms::owner_all);
+  const fs::path d = fresh_dir("read-only"), log = fresh_dir("read-only-log") / "log";
+  // Both writes must throw and leave the directory empty; `expected` is the reason they must give.
+  std::string expected;
+  if (::geteuid() != 0) {
+    fs::permissions(d, fs::perms::owner_read | fs::perms::owner_exec);
+    const int r = record_failure(log, [&] { write_file_atomically(d / "summary.json", "{}"); }) +
+                  2 * record_failure(log, [&] { export_meshes({}, d, "frame_00000", "obj"); });
+    fs::permissions(d, fs::perms::owner_all);
+    EXPECT_EQ(r, 0) << slurp(log);  // 1: the atomic write did not throw, 2: the export did not
+    expected = std::strerror(EACCES);
+  } else {
+    // Root writes through permission bits, so the directory is made read-only the way a read-only disk
+    // is: bound onto itself read-only (MS_RDONLY), in a private mount namespace.
+    const int code = in_private_mount_namespace([&] {
+      if (::mount(d.c_str(), d.c_str(), nullptr, MS_BIND, nullptr) != 0) return 102;
+      if (::mount(nullptr, d.c_str(), nullptr, MS_BIND | MS_REMOUNT | MS_RDONLY, nullptr) != 0) return 102;
+      return record_failure(log, [&] { write_file_atomically(d / "summary.json", "{}"); }) +
+             2 * record_failure(log, [&] { export_meshes({}, d, "frame_00000", "obj"); });
+    });
+    if (code == -1) GTEST_SKIP() << "running as root and no read-only bind mount allowed here";
+    EXPECT_EQ(code, 0) << slurp(log);  // 1: the atomic write did not throw, 2: the export did not
+    expected = std::strerror(EROFS);
+  }
+  // Each message names the reason the system gave (the atomic write's also its file).
+  const std::string what = slurp(log);
+  EXPECT_NE(what.find(expected), std::string::npos) << what;
+  EXPECT_NE(what.find((d / "summary.json").string()), std::string::npos) << what;
   EXPECT_TRUE(fs::is_empty(d));
   fs::remove_all(d);
+  fs::remove_all(log.parent_path());
 }
 
 // A sheet big enough that its OBJ, PLY or glTF file is well above 4 KiB.

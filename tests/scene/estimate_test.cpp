@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <climits>
+#include <cstdio>
 
+#include "mpm/level_set_shape.hpp"
 #include "scene/build.hpp"
 #include "scene/estimate.hpp"
 #include "scene/json_io.hpp"
@@ -65,6 +67,61 @@ TEST(Estimate, SolidParticlesWithinTenPercent) {
   const sim::Simulation sim(build(scene));
   EXPECT_NEAR(count_of(e, "particles"), 8000.0, 1e-6);
   EXPECT_NEAR(static_cast<double>(sim.num_solid_particles()), count_of(e, "particles"), 0.1 * 8000);
+}
+
+// issue 28: the solid and level-set counts of the estimate (from the shape's volume, the mesh's area
+// and the voxel size; nothing is sampled or built) against what the build makes, within 30%.
+TEST(Estimate, BoxSolidParticlesAtAModerateSpacingWithinThirtyPercent) {
+  // 0.3^3 m^3 / 0.005^3 m^3 = 216000 particles.
+  const Scene scene = read_scene(std::string(R"({"time": {"end": 0.01}, "solids": [{"shape": "box", "center": [0, 0, 0],
+      "half_extents": [0.15, 0.15, 0.15], "spacing": 0.005, "material": {"E": 1e5, "nu": 0.3, "density": 100}}]})"), "t");
+  const ResourceEstimate e = estimate_resources(scene);
+  EXPECT_NEAR(count_of(e, "particles"), 216000.0, 1.0);
+  const sim::Simulation sim(build(scene));
+  const double built = static_cast<double>(sim.num_solid_particles());
+  std::printf("box solid, spacing 0.005: estimated %.0f particles, built %.0f\n", count_of(e, "particles"), built);
+  EXPECT_NEAR(count_of(e, "particles"), built, 0.3 * built);
+}
+
+// The ellipsoid mesh scaled to 0.2 m, as a solid and as a collider.
+std::string mesh_key(double voxel) {
+  return R"("file": ")" + std::string(SHELLFRAC_SOURCE_DIR) + R"(/scenes/meshes/ellipsoid.obj", "scale": 0.3333333, "voxel_size": )" +
+         std::to_string(voxel);
+}
+
+size_t active_voxels(const std::shared_ptr<const mpm::Shape>& shape) {
+  const auto* level_set = dynamic_cast<const mpm::LevelSetShape*>(shape.get());
+  return level_set ? level_set->active_voxels() : 0;
+}
+
+TEST(Estimate, MeshSolidParticlesAndVoxelsWithinThirtyPercent) {
+  for (const double voxel : {0.004, 0.002, 0.001}) {
+    const Scene scene = read_scene(R"({"time": {"end": 0.01}, "solids": [{"shape": "mesh", )" + mesh_key(voxel) +
+                                       R"(, "spacing": 0.005, "material": {"E": 1e5, "nu": 0.3, "density": 100}}]})",
+                                   "t");
+    const ResourceEstimate e = estimate_resources(scene);
+    const Model model = build(scene);
+    const double voxels = static_cast<double>(active_voxels(model.solids[0].geometry));
+    const sim::Simulation sim(model);
+    const double particles = static_cast<double>(sim.num_solid_particles());
+    std::printf("mesh solid, voxel %g: estimated %.0f voxels, built %.0f; estimated %.0f particles, built %.0f\n", voxel,
+                count_of(e, "level-set voxels"), voxels, count_of(e, "particles"), particles);
+    EXPECT_NEAR(count_of(e, "level-set voxels"), voxels, 0.3 * voxels) << voxel;
+    EXPECT_NEAR(count_of(e, "particles"), particles, 0.3 * particles) << voxel;
+  }
+}
+
+TEST(Estimate, MeshColliderVoxelsWithinThirtyPercent) {
+  for (const double voxel : {0.002, 0.0005}) {
+    const Scene scene =
+        read_scene(sheet_scene(R"({"type": "flat", "size": [1, 1], "cells": [2, 2]})",
+                               R"("colliders": [{"shape": "mesh", )" + mesh_key(voxel) + R"(, "band_voxels": 2}], )"),
+                   "t");
+    const ResourceEstimate e = estimate_resources(scene);
+    const double voxels = static_cast<double>(active_voxels(build(scene).colliders[0].collider.shape));
+    std::printf("mesh collider, voxel %g, band 2: estimated %.0f voxels, built %.0f\n", voxel, count_of(e, "level-set voxels"), voxels);
+    EXPECT_NEAR(count_of(e, "level-set voxels"), voxels, 0.3 * voxels) << voxel;
+  }
 }
 
 // The error check_budget gives with an 8 GiB budget and no force.

@@ -125,7 +125,9 @@ TEST(TipWeights, DiffractionBasisIsContinuousPastTheTip) {
                 u, coarse, fine, visibility);
     EXPECT_LT(fine, 2e-3);
     EXPECT_LT(fine, 0.2 * coarse + 1e-12);
-    if (near_tip) EXPECT_GT(visibility, 10.0 * fine);  // the defect diffraction removes
+    if (near_tip) {
+      EXPECT_GT(visibility, 10.0 * fine);  // the defect diffraction removes
+    }
   }
 }
 
@@ -183,7 +185,9 @@ TEST(TipWeights, DiffractionBasisClosesTheCrackAtTheTip) {
     const double plain_curv = std::max(largest_curvature_term(evaluate(s, above, kDiffraction, 0.0)),
                                        largest_curvature_term(evaluate(s, below, kDiffraction, 0.0)));
     std::printf("[ at the tip, rho = %g cells ] without the fade: l^2 |R_ab| <= %.1f\n", rho, plain_curv);
-    if (rho == 1e-4) EXPECT_GT(plain_curv, 10.0 * vis_curv) << "the singularity the fade removes";
+    if (rho == 1e-4) {
+      EXPECT_GT(plain_curv, 10.0 * vis_curv) << "the singularity the fade removes";
+    }
     std::printf("[ at the tip, rho = %g cells ] diffraction: basis jump %.2e, opening %.2e, l^2 |R_ab| <= %.1f; "
                 "visibility: opening %.2e, l^2 |R_ab| <= %.1f\n",
                 rho, jump, opening, curv, vis_opening, vis_curv);
