@@ -91,6 +91,12 @@ void TransferShares::update(World& world, double intact, double active) {
   for (size_t i = 0; i < world.num_shells(); ++i) {
     const shell::ShellPatch& patch = world.shell(i);
     if (pic_shell_[i]) continue;  // shares stay 0, and the shell has no affine velocity: PIC
+    std::vector<double>& control = control_[i];
+    if (turned_[i]) {  // every particle of a torn shell takes the same share: no scan of its state
+      std::fill(control.begin(), control.end(), active);
+      std::fill(shear_[i].begin(), shear_[i].end(), active);
+      continue;
+    }
     const size_t layers = static_cast<size_t>(patch.num_layers());
     const std::vector<double>& damage = patch.damage_values();
     const std::vector<double>& plastic = patch.plastic_strain_values();
@@ -106,12 +112,6 @@ void TransferShares::update(World& world, double intact, double active) {
       if (hit) cell_active_[patch.cell_of(q)] = 1;
     }
     const std::vector<unsigned char>& control_near = patch.control_near_crack();
-    std::vector<double>& control = control_[i];
-    if (turned_[i]) {
-      std::fill(control.begin(), control.end(), active);
-      std::fill(shear_[i].begin(), shear_[i].end(), active);
-      continue;
-    }
     for (size_t k = 0; k < control.size(); ++k) control[k] = control_near[k] || seam_held_[i][k] ? active : intact;
     const int support = patch.support_size();
     for (size_t c = 0; c < patch.num_cells(); ++c) {

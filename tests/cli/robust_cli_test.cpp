@@ -45,6 +45,13 @@ std::string cloth(const std::string& time = R"({"end": 0.1, "frame_rate": 30})",
       "thickness": 0.0005, "material": {"E": 1e5, "nu": 0.3, "density": 300}}]})";
 }
 
+// The cloth over 1 s with its material object replaced by `material`.
+std::string cloth_with_material(const std::string& material) {
+  const std::string plain = R"({"E": 1e5, "nu": 0.3, "density": 300})";
+  std::string text = cloth(R"({"end": 1})");
+  return text.replace(text.find(plain), plain.size(), material);
+}
+
 Result validate_text(const fs::path& d, const std::string& text, const std::string& flags = "") {
   std::ofstream(d / "s.json") << text;
   return shellfrac("validate " + (d / "s.json").string() + " " + flags);
@@ -86,10 +93,6 @@ TEST(CliRobust, ScenesThatCannotBeReadAreExitTwoWithPath) {
 TEST(CliRobust, HostileScenesOfTheIssueExitTwoWithTheirPath) {
   const fs::path d = scratch("hostile");
   const std::string material = R"({"E": 1e5, "nu": 0.3, "density": 300})";
-  auto with_material = [&](const std::string& m) {
-    std::string text = cloth(R"({"end": 1})");
-    return text.replace(text.find(material), material.size(), m);
-  };
   std::string knots = "[0", net;
   for (int i = 0; i < 10; ++i) knots += ", 0";
   for (int i = 0; i < 11; ++i) knots += ", 1";
@@ -105,8 +108,8 @@ TEST(CliRobust, HostileScenesOfTheIssueExitTwoWithTheirPath) {
   };
   const std::vector<std::pair<std::string, std::string>> cases = {
       {cloth(R"({"end": 1, "cfl": 1e-300})"), "/time/cfl: the run would take about"},
-      {with_material(R"({"E": 1e300, "nu": 0.3, "density": 300})"), "/shells/0/material/E: the run would take about"},
-      {with_material(R"({"E": 1e5, "nu": 0.3, "density": 1e-300})"), "/shells/0/material/density: the run would take about"},
+      {cloth_with_material(R"({"E": 1e300, "nu": 0.3, "density": 300})"), "/shells/0/material/E: the run would take about"},
+      {cloth_with_material(R"({"E": 1e5, "nu": 0.3, "density": 1e-300})"), "/shells/0/material/density: the run would take about"},
       {cloth(R"({"end": 1})", "", R"("initial_velocity": [0, 1e30, 0], )"), "/shells/0/initial_velocity: the run would take about"},
       {cloth(R"({"end": 1e300})"), "/time/end: the run would write 2.4e+301 frames, more than any run can"},
       {R"({"time": {"end": 0.1}, "shells": [{"patch": {"type": "control_net", "degree": [10, 10], "knots_u": )" + knots +
@@ -163,14 +166,9 @@ TEST(CliRobust, ValidatePrintsTheEstimateAndRunRefusesOverBudget) {
 // --force validate accepts them and warns.
 TEST(CliRobust, ValidateRefusesWhatRunRefuses) {
   const fs::path d = scratch("agree");
-  const std::string material = R"({"E": 1e5, "nu": 0.3, "density": 300})";
-  auto with_material = [&](const std::string& m) {
-    std::string text = cloth(R"({"end": 1})");
-    return text.replace(text.find(material), material.size(), m);
-  };
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {with_material(R"({"E": 1e300, "nu": 0.3, "density": 300})"), "/shells/0/material/E"},
-      {with_material(R"({"E": 1e5, "nu": 0.3, "density": 1e-300})"), "/shells/0/material/density"},
+      {cloth_with_material(R"({"E": 1e300, "nu": 0.3, "density": 300})"), "/shells/0/material/E"},
+      {cloth_with_material(R"({"E": 1e5, "nu": 0.3, "density": 1e-300})"), "/shells/0/material/density"},
       {cloth(R"({"end": 1, "dt": 1e-300})"), "/time/dt"},
       {cloth(R"({"end": 1, "cfl": 1e-300})"), "/time/cfl"},
       {cloth(R"({"end": 1, "frame_rate": 1e9})"), "/time/frame_rate"},

@@ -61,15 +61,21 @@ TEST(Vibration, FlipRatioWithoutAFlipTransferIsRefused) {
   }
 }
 
+// The simply supported plate at a/t = 100, 16 x 16 cells, under the default transfer (no grid.transfer key).
+PlateVibrationCase thin_plate_under_the_default() {
+  PlateVibrationCase c;
+  c.thickness = c.side / 100;
+  c.cells = 16;
+  c.transfer.transfer = "default";
+  return c;
+}
+
 TEST(Vibration, SimplySupportedPlateKeepsItsFirstMode) {
   // a/t = 100, 16 x 16 cells, cfl 1, the default transfer (no grid.transfer key: the adaptive transfer,
   // under which the intact elastic plate runs affine-FLIP with share 1): issue 15 asks zeta <= 0.02 over
   // 5 periods and the period within 2% of 2 pi / omega_11. The period error left is the spatial
   // discretisation's (docs/shell-model.md).
-  PlateVibrationCase c;
-  c.thickness = c.side / 100;
-  c.cells = 16;
-  c.transfer.transfer = "default";
+  PlateVibrationCase c = thin_plate_under_the_default();
   const VibrationResult v = simply_supported_plate(c);
   std::printf("default (adaptive): zeta = %.5f, period / reference = %.5f, %d extrema, %ld steps\n", v.damping_ratio,
               v.period / v.reference_period, v.extrema, v.steps);
@@ -92,10 +98,7 @@ TEST(Vibration, BreakablePlateVibratesLikeTheIntactOne) {
   // like the intact plate until damage appears, which it never does. Issue 27 asks zeta <= 0.02 and
   // the period within 2% of the intact plate's. The thesis's PIC (cracking_shells "pic", the
   // default until this change) over-damps it: no oscillation.
-  PlateVibrationCase c;
-  c.thickness = c.side / 100;
-  c.cells = 16;
-  c.transfer.transfer = "default";
+  PlateVibrationCase c = thin_plate_under_the_default();
   const VibrationResult intact = simply_supported_plate(c);
   c.breakable = true;
   const VibrationResult breakable = simply_supported_plate(c);
