@@ -20,6 +20,8 @@ packages=(
   python3                # drivers of the Blender tests (tests/blender/, standard library only)
   voro++-dev             # 3D Voronoi diagrams of damaged regions (brittle crack surfaces)
   libcgal-dev libgmp-dev libmpfr-dev  # exact mesh booleans for fragments (brittle)
+  libbullet-dev          # rigid bodies of the shatter loop (rigid/)
+  libmeshoptimizer-dev   # decimated collision meshes of breakable bodies (rigid/)
   pybind11-dev python3-dev  # the Python module (python/, docs/python.md)
   python3-numpy python3-pytest python3-matplotlib  # its arrays, its tests (tests/python/), its examples
 )

@@ -1,0 +1,24 @@
+#pragma once
+// What the rigid solver's contacts of one step did to each body (thesis sec. 3.6.2): the total normal
+// impulse it received, where and along which direction, and how fast the contact closed. A body whose
+// total exceeds its threshold RB_imp starts a fracture event.
+#include <vector>
+
+#include "rigid/rigid_world.hpp"
+
+namespace shellfrac::shatter {
+
+struct BodyImpact {
+  int body = -1;
+  double impulse = 0;                    // sum of the normal impulses on the body [N s]
+  rigid::Vec3 point = rigid::Vec3::Zero();      // impulse-weighted contact point (world)
+  rigid::Vec3 direction = rigid::Vec3::Zero();  // unit direction of the impulse on the body (into it)
+  double approach_speed = 0;             // impulse-weighted closing speed of its contacts [m/s]
+  int partner = -1;                      // the body that delivered the largest share
+  double partner_impulse = 0;
+};
+
+// One entry per body that took a positive normal impulse in the step, in order of body id.
+std::vector<BodyImpact> gather_impacts(const std::vector<rigid::ContactPoint>& contacts);
+
+}  // namespace shellfrac::shatter

@@ -1,0 +1,227 @@
+// The shatter loop: fracture events start only above the impulse threshold, with the impulse the rigid
+// solver delivered; fragments keep the parent's mass, momentum and angular momentum and spawn without
+// overlap; large fragments break again, tiny ones never.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "brittle/primitives.hpp"
+#include "core/error.hpp"
+#include "shatter/shatter_loop.hpp"
+
+namespace shellfrac::shatter {
+namespace {
+
+using brittle::Vec3;
+
+// A 10 cm ceramic-like cube (E 1 GPa, 1000 kg/m^3, sigma_f 0.3 MPa) of 1,000 particles on a 1 cm grid:
+// an event's MPM run is about a thousand steps.
+BreakableSpec cube(const Vec3& centre, double threshold) {
+  BreakableSpec s;
+  s.name = "cube";
+  s.mesh = brittle::box_mesh(centre, Vec3::Constant(0.05), 1);
+  brittle::BrittleMaterial m;
+  m.youngs_modulus = 1e9;
+  m.poisson_ratio = 0.25;
+  m.density = 1000;
+  m.failure_stress = 3e5;
+  m.fracture_energy = 10;
+  auto solid = std::make_shared<brittle::BrittleSolid>(
+      brittle::make_solid(s.mesh, m, 0.01, brittle::Sampling::Regular, 1, "cube"));
+  s.solver.dx = 0.01;
+  solid->set_strength({}, {}, s.solver.dx);
+  s.particles = solid;
+  s.event.crack.grid.spacing = 0.01;
+  s.impulse_threshold = threshold;
+  return s;
+}
+
+ShatterOptions on_the_ground() {
+  ShatterOptions o;
+  o.dt = 1e-3;
+  o.ground = GroundSpec{};
+  o.ground->surface = rigid::Surface{0.5, 0.1};
+  return o;
+}
+
+// Falls from 1.25 m (5 m/s at impact): the impact delivers about m (1 + e) v = 1 * 1.01 * 5 N s.
+TEST(ShatterLoop, EventsStartOnlyAboveTheThresholdWithTheDeliveredImpulse) {
+  for (const double threshold : {20.0, 2.0}) {
+    ShatterLoop loop(on_the_ground());
+    loop.add_breakable(cube(Vec3(0, 0, 1.3), threshold));
+    rigid::BodyState before;
+    bool hit = false;
+    while (loop.time() < 0.6 && loop.events().empty()) {
+      before = loop.world().state(loop.pieces()[0].body);
+      loop.step();
+      hit = hit || !loop.world().contacts().empty();
+    }
+    ASSERT_TRUE(hit);
+    if (threshold > 10) {
+      EXPECT_TRUE(loop.events().empty()) << "20 N s is above the impact";
+      continue;
+    }
+    ASSERT_EQ(loop.events().size(), 1u);
+    const EventRecord& e = loop.events()[0];
+    // The momentum the world gave the cube in the step, less gravity's, is the event's impulse (1e-9).
+    const double m = 1.0;
+    const Vec3 change = m * (e.parent.velocity - before.velocity) - m * Vec3(0, 0, -9.81) * 1e-3;
+    EXPECT_NEAR(change.z(), e.impulse, 1e-9 * e.impulse) << before.velocity.transpose() << " / " << e.parent.velocity.transpose() << " t " << e.time;
+    EXPECT_GT(e.impulse, 2.0);
+    EXPECT_LT(e.impulse, 20.0);
+    EXPECT_GT(e.contact_time, 0);
+    EXPECT_GT(e.mpm_steps, 0u);
+  }
+}
+
+}  // namespace
+}  // namespace shellfrac::shatter
+
+namespace shellfrac::shatter {
+namespace {
+
+// Drops a spinning, sliding cube until its first fracture event; returns the loop.
+std::unique_ptr<ShatterLoop> broken_cube(const VolumeRatios& ratios) {
+  auto loop = std::make_unique<ShatterLoop>(on_the_ground());
+  BreakableSpec s = cube(Vec3(0, 0, 1.3), 1.0);
+  s.velocity = Vec3(0.7, -0.4, -2);  // 7.2 m/s at the ground
+  s.angular_velocity = Vec3(3, -5, 7);
+  s.spawn.ratios = ratios;
+  loop->add_breakable(s);
+  while (loop->time() < 0.6 && loop->events().empty()) loop->step();
+  return loop;
+}
+
+std::vector<size_t> alive(const ShatterLoop& loop) {
+  std::vector<size_t> out;
+  for (size_t i = 0; i < loop.pieces().size(); ++i)
+    if (loop.alive(i)) out.push_back(i);
+  return out;
+}
+
+// thesis sec. 3.6.1: fragments start with the parent's rigid velocity field. Checked independently of the
+// loop's own bookkeeping: masses and inertia from the meshes, velocities from the world.
+TEST(ShatterLoop, FragmentsKeepMassMomentumAndAngularMomentum) {
+  const auto loop = broken_cube(VolumeRatios{});
+  ASSERT_EQ(loop->events().size(), 1u);
+  const EventRecord& e = loop->events()[0];
+  ASSERT_EQ(e.outcome, "broken") << e.message << " damaged " << e.damaged_particles << " of " << e.particles
+                                 << " fragments " << e.fragments << " t_c " << e.contact_time << " steps " << e.mpm_steps;
+  ASSERT_GE(e.fragments, 2u);
+  const Piece& parent = loop->pieces()[0];
+  const rigid::Pose w = e.parent.pose * parent.material_to_body;
+  const brittle::MassProperties pm = brittle::mass_properties(parent.mesh, 1000);
+  const Vec3 centre = w.apply(pm.centroid);
+  const rigid::Mat3 R = w.rotation.toRotationMatrix();
+  const Vec3 P = pm.mass * e.parent.velocity;
+  const Vec3 L = R * pm.inertia * R.transpose() * e.parent.angular_velocity;
+  const double E = 0.5 * pm.mass * e.parent.velocity.squaredNorm() + 0.5 * e.parent.angular_velocity.dot(L);
+  double mass = 0, energy = 0;
+  Vec3 p = Vec3::Zero(), l = Vec3::Zero();
+  const std::vector<size_t> pieces = alive(*loop);
+  ASSERT_EQ(pieces.size(), e.fragments);
+  for (size_t i : pieces) {
+    const Piece& f = loop->pieces()[i];
+    const brittle::MassProperties fm = brittle::mass_properties(f.mesh, 1000);
+    const rigid::BodyState s = loop->world().state(f.body);
+    const rigid::Pose fw = s.pose * f.material_to_body;
+    const rigid::Mat3 Rf = fw.rotation.toRotationMatrix();
+    const Vec3 spin = Rf * fm.inertia * Rf.transpose() * s.angular_velocity;
+    mass += fm.mass;
+    p += fm.mass * s.velocity;
+    l += spin + fm.mass * (fw.apply(fm.centroid) - centre).cross(s.velocity);
+    energy += 0.5 * fm.mass * s.velocity.squaredNorm() + 0.5 * s.angular_velocity.dot(spin);
+    EXPECT_LE((fw.apply(fm.centroid) - s.pose.translation).norm(), 1e-12);  // body origin at its centre
+  }
+  EXPECT_NEAR(mass, pm.mass, 1e-10 * pm.mass);
+  EXPECT_LE((p - P).norm(), 1e-10 * P.norm());
+  EXPECT_LE((l - L).norm(), 1e-10 * L.norm());
+  EXPECT_LE(energy, E * (1 + 1e-12));
+  // the loop's own record says the same
+  EXPECT_LE(e.mass_error, 1e-10);
+  EXPECT_LE(e.momentum_error, 1e-10);
+  EXPECT_LE(e.angular_momentum_error, 1e-10);
+  EXPECT_LE(e.energy_ratio, 1 + 1e-12);
+  EXPECT_LE(std::abs(e.volume_change), 1e-9);  // the exact cutter's fragments sum to the cube
+}
+
+// Siblings are cut from one solid and touch along the crack. The criterion is that their
+// collision shapes overlap by no more than their margins at birth: NOT MET. Hulls and meshes only
+// approximate curved crack faces (measured on this cube: hulls overlap by up to 20.6 mm, a tetrahedron
+// decomposition of the surface by 3.1 mm at 34K contacts per step, GImpact meshes report 32 mm for two
+// boxes touching face to face). What the loop guarantees instead, asserted here: siblings ignore each
+// other until their bounds part, so the first free step (gravity off) adds no energy between them, and
+// once apart they collide again.
+TEST(ShatterLoop, SiblingsDoNotPushEachOtherApartAtBirth) {
+  auto loop = broken_cube(VolumeRatios{});
+  ASSERT_EQ(loop->events().size(), 1u);
+  ASSERT_EQ(loop->events()[0].outcome, "broken");
+  const std::vector<size_t> pieces = alive(*loop);
+  // the fragments' kinetic energy just after the event, then one step of free flight
+  const double before = loop->moments(pieces).kinetic_energy;
+  loop->world().set_gravity(Vec3::Zero());
+  size_t sibling_contacts = 0;
+  loop->step();
+  for (const rigid::ContactPoint& c : loop->world().contacts())
+    if (c.a != 0 && c.b != 0 && c.impulse > 0) ++sibling_contacts;
+  EXPECT_EQ(sibling_contacts, 0u);
+  // Ground contacts may take energy out, never put it in (restitution <= 1): 1e-9 relative.
+  EXPECT_LE(loop->moments(pieces).kinetic_energy, before * (1 + 1e-9));
+}
+
+// A large fragment is breakable again: thrown at the ground it has its own fracture event.
+TEST(ShatterLoop, LargeFragmentBreaksAgain) {
+  const auto loop = broken_cube(VolumeRatios{});
+  ASSERT_EQ(loop->events().size(), 1u);
+  size_t large = loop->pieces().size();
+  for (size_t i : alive(*loop))
+    if (loop->pieces()[i].fragment_class == FragmentClass::Large) large = i;
+  ASSERT_LT(large, loop->pieces().size()) << "the first event made no large fragment";
+  const std::string name = loop->pieces()[large].name;
+  // 4 m/s: faster (5, 7, 12 m/s) damages 86-99 % of its 329 particles and the crack extraction finds no
+  // intact structure to cut around (one piece, outcome "intact"); breakage_order would be needed there
+  loop->world().set_velocity(loop->pieces()[large].body, Vec3(0, 0, -4), Vec3::Zero());
+  const double until = loop->time() + 0.3;
+  while (loop->time() < until && loop->alive(large)) loop->step();
+  bool found = false;
+  for (const EventRecord& e : loop->events())
+    if (e.body == name) {
+      found = true;
+      EXPECT_EQ(e.generation, 1);
+      EXPECT_EQ(e.outcome, "broken") << e.message << " damaged " << e.damaged_particles << " of " << e.particles
+                                     << " fragments " << e.fragments << " impulse " << e.impulse;
+    }
+  EXPECT_TRUE(found);
+}
+
+// With VR_t above every fragment's share, all fragments are tiny: slammed into the ground at 12 m/s, none
+// breaks.
+TEST(ShatterLoop, TinyFragmentsNeverBreak) {
+  const auto loop = broken_cube(VolumeRatios{0.97, 0.98, 0.99});
+  ASSERT_EQ(loop->events().size(), 1u);
+  ASSERT_EQ(loop->events()[0].outcome, "broken");
+  for (size_t i : alive(*loop)) {
+    ASSERT_EQ(loop->pieces()[i].fragment_class, FragmentClass::Tiny);
+    EXPECT_FALSE(loop->pieces()[i].breakable);
+    loop->world().set_velocity(loop->pieces()[i].body, Vec3(0, 0, -12), Vec3::Zero());
+  }
+  const double until = loop->time() + 0.3;
+  while (loop->time() < until) loop->step();
+  EXPECT_EQ(loop->events().size(), 1u);
+}
+
+TEST(ShatterLoop, BadSpecsAreRefused) {
+  ShatterLoop loop(on_the_ground());
+  EXPECT_THROW(loop.add_breakable(cube(Vec3(0, 0, 1), 0.0)), core::InputError);
+  BreakableSpec s = cube(Vec3(0, 0, 1), 1.0);
+  s.spawn.ratios = VolumeRatios{0.3, 0.2, 0.98};
+  EXPECT_THROW(loop.add_breakable(s), core::InputError);
+  EXPECT_EQ(classify(0.04, VolumeRatios{}), FragmentClass::Tiny);
+  EXPECT_EQ(classify(0.05, VolumeRatios{}), FragmentClass::Small);
+  EXPECT_EQ(classify(0.2, VolumeRatios{}), FragmentClass::Large);
+  EXPECT_EQ(classify(0.98, VolumeRatios{}), FragmentClass::NearlyWhole);
+}
+
+}  // namespace
+}  // namespace shellfrac::shatter
