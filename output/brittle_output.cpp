@@ -11,9 +11,6 @@ namespace shellfrac::output {
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
-namespace {
-
-// A brittle triangle mesh as an exportable polygon mesh (normals and UVs when the mesh has them).
 render_mesh::PolyMesh poly_mesh(const brittle::TriMesh& m) {
   render_mesh::PolyMesh out;
   out.name = m.name;
@@ -23,6 +20,8 @@ render_mesh::PolyMesh poly_mesh(const brittle::TriMesh& m) {
   for (const brittle::Tri& t : m.triangles) out.add_face({t[0], t[1], t[2]});
   return out;
 }
+
+namespace {
 
 const char* stop_reason(const sim::BrittleSystem::Body& b) {
   return b.solver->should_stop() ? brittle::to_string(b.solver->stop_reason()) : "scene_end";

@@ -8,10 +8,14 @@
 #include <vector>
 
 #include "output/summary.hpp"
+#include "render_mesh/poly_mesh.hpp"
 #include "scene/model.hpp"
 #include "sim/simulation.hpp"
 
 namespace shellfrac::output {
+
+// A brittle triangle mesh as an exportable polygon mesh (normals and UVs when the mesh has them).
+render_mesh::PolyMesh poly_mesh(const brittle::TriMesh& m);
 
 class BrittleWriter {
  public:

@@ -10,6 +10,7 @@
 
 #include "core/version.hpp"
 #include "output/brittle_output.hpp"
+#include "output/shatter_output.hpp"
 #include "output/frame_render.hpp"
 #include "output/interrupt.hpp"
 #include "output/mesh_metrics.hpp"
@@ -265,12 +266,14 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
   prepare_output(options.out_dir, options.keep_old_frames, log);
   FrameWriter frames(model, options.out_dir);
   BrittleWriter brittle(model, options.out_dir);  // fracture events of brittle solids (docs/brittle.md)
+  ShatterWriter shatter(model, options.out_dir);  // rigid bodies and their fragments per frame
   VerificationRecorder verification(sim, options.out_dir);  // probes, reactions, rest (docs/cli.md)
   double peak_kinetic = 0;
   auto finish = [&](const std::string& status, const std::string& error) {
     Summary s = make_summary(sim, frames, threads, peak_kinetic, status);
     if (!error.empty()) s.error = error;
     if (!model.brittle_solids.empty()) s.brittle = brittle.reports(sim);
+    if (!sim.shatter().empty()) s.shatter = shatter_json(sim.shatter().loop(), shatter.frames());
     verification.finish(sim, s);
     s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     render_mesh::write_file_atomically(options.out_dir / "summary.json", to_json(s).dump(2) + "\n");
@@ -282,6 +285,7 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
   try {
     watchdog.record(0, 0, last_frame, 0, Activity::writing_frame);
     frames.write(sim, 0);
+    shatter.write_frame(sim, 0);
     verification.at_frame(sim, 0);
     for (int f = 1; f <= last_frame && !stopped && !resting; ++f) {
       // The steps of sim.advance_to, taken here so that progress, callbacks and interrupts see every
@@ -308,6 +312,7 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
       peak_kinetic = std::max(peak_kinetic, sim.kinetic_energy());
       watchdog.record(sim.time(), f, last_frame, sim.steps(), Activity::writing_frame);
       frames.write(sim, f);
+      shatter.write_frame(sim, f);
       verification.at_frame(sim, f);
       progress.update(sim.time(), "frame " + std::to_string(f) + "/" + std::to_string(last_frame) + ", step " +
                                       std::to_string(sim.steps()));

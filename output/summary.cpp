@@ -185,6 +185,7 @@ nlohmann::json to_json(const Summary& s) {
     j["crack_graphs"] = std::move(graphs);
   }
   if (s.brittle) j["brittle"] = brittle_json(*s.brittle);
+  if (s.shatter) j["shatter"] = *s.shatter;
   write_verification(s, j);
   j["wall_seconds"] = s.wall_seconds;
   return j;
@@ -240,6 +241,7 @@ Summary summary_from_json(const nlohmann::json& j) {
                                  get<std::vector<std::array<int, 2>>>(g, "edges")});
   }
   if (j.contains("brittle")) s.brittle = brittle_reports_from_json(j.at("brittle"));
+  if (j.contains("shatter")) s.shatter = j.at("shatter");
   read_verification(j, s);
   s.wall_seconds = get<double>(j, "wall_seconds");
   return s;

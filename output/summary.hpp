@@ -171,6 +171,7 @@ struct Summary {
   Metrics metrics;
   std::optional<std::vector<CrackGraphReport>> crack_graphs;
   std::optional<std::vector<BrittleSolidReport>> brittle;  // scenes with brittle solids
+  std::optional<nlohmann::json> shatter;  // scenes with rigid bodies (output/shatter_output.cpp)
   // Verification output (docs/cli.md): probes, pin reactions, applied loads, rest, energy per frame.
   std::vector<ProbeReport> probes;
   std::vector<PinReport> pins;

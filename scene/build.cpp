@@ -96,6 +96,8 @@ Model build(const Scene& input) {
     if (scene.solids[i].fracture) m.brittle_solids.push_back(detail::build_brittle_solid(b, scene.solids[i], i));
     else m.solids.push_back(detail::build_solid(b, scene.solids[i], i));
   }
+  for (const model::BrittleBody& body : m.brittle_solids)
+    if (body.rigid && !m.rigid) m.rigid = detail::build_rigid_world(b, scene.rigid);
   for (size_t i = 0; i < scene.colliders.size(); ++i)
     m.colliders.push_back(detail::build_collider(b, scene.colliders[i], i));
   for (size_t i = 0; i < scene.pins.size(); ++i) m.pins.push_back(detail::build_pin(b, scene.pins[i], i, m.shells));

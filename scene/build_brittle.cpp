@@ -279,7 +279,56 @@ model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t 
   // Counting rule (docs/brittle.md): a piece smaller than one MPM cell, dx^3, cannot have been resolved
   // by the simulation; it is a sliver, kept in the mesh but not counted as a fragment.
   out.sliver_volume = fr.sliver_volume.value_or(dx * dx * dx);
+  if (s.rigid_body) {
+    const RigidBodySpec& r = *s.rigid_body;
+    model::BrittleBody::Rigid& rb = out.rigid.emplace();
+    rb.impulse_threshold = *r.impulse_threshold;
+    rb.angular_velocity = vec3_or(r.angular_velocity, {0, 0, 0});
+    rb.velocity = vec3_or(s.initial_velocity, {0, 0, 0});
+    rb.collision_faces = static_cast<size_t>(r.collision_faces.value_or(10000));
+    rb.surface = rigid::Surface{r.friction.value_or(0.5), r.restitution.value_or(0.2)};
+    rb.impact_radius = r.impact_radius.value_or(0.0);
+    rb.contact_times = r.contact_times.value_or(3.0);
+    rb.strength_regions = regions;
+    rb.weibull = weibull;
+    rb.sampling = sampling;
+    rb.seed = static_cast<unsigned>(s.seed.value_or(1));
+  }
   return out;
+}
+
+model::RigidWorldSettings build_rigid_world(const Builder& b, const Opt<RigidWorldSpec>& spec) {
+  model::RigidWorldSettings w;
+  const BVec3 gravity = vec3_or(b.scene.gravity, {0.0, -9.81, 0.0});
+  w.options.gravity = gravity;
+  const RigidWorldSpec r = spec.value_or(RigidWorldSpec{});
+  w.options.dt = r.dt.value_or(1e-3);
+  w.options.solver_iterations = r.solver_iterations.value_or(20);
+  if (r.volume_ratios) w.ratios = shatter::VolumeRatios{(*r.volume_ratios)[0], (*r.volume_ratios)[1], (*r.volume_ratios)[2]};
+  // The ground: the scene's, or a plane through the origin facing up against gravity.
+  const RigidGround g = r.ground.value_or(RigidGround{});
+  shatter::GroundSpec ground;
+  ground.point = vec3_or(g.point, {0, 0, 0});
+  const BVec3 up = gravity.norm() > 0 ? BVec3(-gravity.normalized()) : BVec3(0, 1, 0);
+  ground.normal = g.normal ? vec3(*g.normal).normalized() : up;
+  ground.surface = rigid::Surface{g.friction.value_or(0.5), g.restitution.value_or(0.2)};
+  ground.material = brittle::HertzBody{g.youngs_modulus.value_or(3e10), g.poisson_ratio.value_or(0.2)};
+  w.options.ground = ground;
+  for (size_t i = 0; i < r.projectiles.size(); ++i) {
+    const Projectile& p = r.projectiles[i];
+    shatter::ProjectileSpec ps;
+    ps.name = p.name.value_or("projectile" + std::to_string(i));
+    ps.radius = *p.radius;
+    ps.density = *p.density;
+    ps.material = brittle::HertzBody{*p.youngs_modulus, *p.poisson_ratio};
+    ps.centre = vec3(*p.center);
+    ps.velocity = vec3_or(p.velocity, {0, 0, 0});
+    ps.angular_velocity = vec3_or(p.angular_velocity, {0, 0, 0});
+    ps.kinematic = p.kinematic.value_or(false);
+    ps.surface = rigid::Surface{p.friction.value_or(0.5), p.restitution.value_or(0.5)};
+    w.projectiles.push_back(ps);
+  }
+  return w;
 }
 
 }  // namespace shellfrac::scene::detail

@@ -42,6 +42,7 @@ nurbs::NurbsSurface patch_surface(const Builder& b, const Patch& p, const std::s
 model::Shell build_shell(const Builder& b, const Shell& s, size_t index);
 model::SolidBody build_solid(const Builder& b, const Solid& s, size_t index);
 model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t index);  // build_brittle.cpp
+model::RigidWorldSettings build_rigid_world(const Builder& b, const Opt<RigidWorldSpec>& spec);  // build_brittle.cpp
 model::ColliderSpec build_collider(const Builder& b, const Collider& c, size_t index);
 mpm::RigidMotion build_motion(const Motion& m);
 // A shell named by name or by index; errors at `path`.

@@ -261,7 +261,7 @@ void describe(V& v, SolidFracture& f) {
   v.integer("crack_interval", f.crack_interval, Range::closed(1, 1000000));
   v.object("stop", f.stop);
   v.check("stop", [&] {
-    return !f.stop || (!f.stop->damaged_fraction && !f.stop->max_time && !f.stop->max_steps)
+    return f.stop && !f.stop->damaged_fraction && !f.stop->max_time && !f.stop->max_steps
                ? "a fracture run needs a stopping criterion: \"stop\" with damaged_fraction, max_steps or max_time"
                : "";
   });
@@ -270,6 +270,62 @@ void describe(V& v, SolidFracture& f) {
   v.number("gap_width", f.gap_width, Range::non_negative());
   v.number("sliver_volume", f.sliver_volume, Range::non_negative());
   v.object("breakage_order", f.breakage_order);
+}
+
+template <class V>
+void describe(V& v, RigidBodySpec& r) {
+  v.number("impulse_threshold", r.impulse_threshold, Range::positive(), kRequired);
+  v.numbers("angular_velocity", r.angular_velocity, Range::any());
+  v.integer("collision_faces", r.collision_faces, Range::closed(4, 10000000));
+  v.number("friction", r.friction, Range::non_negative());
+  v.number("restitution", r.restitution, Range::closed(0.0, 1.0));
+  v.number("impact_radius", r.impact_radius, Range::positive());
+  v.number("contact_times", r.contact_times, Range::positive());
+}
+
+template <class V>
+void describe(V& v, RigidGround& g) {
+  v.numbers("point", g.point, Range::any());
+  v.numbers("normal", g.normal, Range::any());
+  v.check("normal", [&] {
+    const bool zero = g.normal && (*g.normal)[0] == 0 && (*g.normal)[1] == 0 && (*g.normal)[2] == 0;
+    return zero ? "the ground normal must not be zero" : "";
+  });
+  v.number("friction", g.friction, Range::non_negative());
+  v.number("restitution", g.restitution, Range::closed(0.0, 1.0));
+  v.number("E", g.youngs_modulus, Range::positive());
+  v.number("nu", g.poisson_ratio, Range::open(-1.0, 0.5));
+}
+
+template <class V>
+void describe(V& v, Projectile& p) {
+  v.string("name", p.name);
+  v.numbers("center", p.center, Range::any(), kRequired);
+  v.number("radius", p.radius, Range::positive(), kRequired);
+  v.numbers("velocity", p.velocity, Range::any());
+  v.numbers("angular_velocity", p.angular_velocity, Range::any());
+  v.number("density", p.density, Range::positive(), kRequired);
+  v.number("E", p.youngs_modulus, Range::positive(), kRequired);
+  v.number("nu", p.poisson_ratio, Range::open(-1.0, 0.5), kRequired);
+  v.number("friction", p.friction, Range::non_negative());
+  v.number("restitution", p.restitution, Range::closed(0.0, 1.0));
+  v.boolean("kinematic", p.kinematic);
+}
+
+// The rigid-body world of the shatter loop (docs/brittle.md, "The shatter loop").
+template <class V>
+void describe(V& v, RigidWorldSpec& r) {
+  v.number("dt", r.dt, Range::positive());
+  v.integer("solver_iterations", r.solver_iterations, Range::closed(1, 1000));
+  v.numbers("volume_ratios", r.volume_ratios, Range::left_open(0.0, 1.0));
+  v.check("volume_ratios", [&] {
+    const Opt<Vec3>& q = r.volume_ratios;
+    return q && !((*q)[0] < (*q)[1] && (*q)[1] < (*q)[2])
+               ? "volume ratios [VR_t, VR_s, VR_l] must increase: 0 < VR_t < VR_s < VR_l <= 1"
+               : "";
+  });
+  v.object("ground", r.ground);
+  v.objects("projectiles", r.projectiles, 0);
 }
 
 // The keys of a "mesh" solid or collider; a collider must give its voxel size.
@@ -340,6 +396,18 @@ void describe(V& v, Solid& s) {
     });
   v.object("strength", s.strength);
   v.objects("impacts", s.impacts, 0);
+  v.object("rigid_body", s.rigid_body);
+  // A rigid body's fracture runs stop after a few contact times of their impact (contact_times).
+  v.check("fracture/stop", [&] {
+    return brittle && !s.rigid_body && !s.fracture->stop
+               ? "a fracture run needs a stopping criterion: \"stop\" with damaged_fraction, max_steps or max_time"
+               : "";
+  });
+  v.check("rigid_body", [&] {
+    if (!s.rigid_body) return "";
+    if (!brittle) return "\"rigid_body\" needs a \"fracture\" object on the solid (a breakable body)";
+    return s.impacts.empty() ? "" : "a rigid body's impacts come from its contacts: remove \"impacts\"";
+  });
   v.check("impacts", [&] {
     return !brittle && (!s.remove.empty() || s.strength || !s.impacts.empty())
                ? "\"remove\", \"strength\" and \"impacts\" are keys of brittle solids (give the solid a \"fracture\" object)"
@@ -633,6 +701,15 @@ void describe(V& v, Scene& s) {
   v.objects("loads", s.loads, 0);
   v.objects("interfaces", s.interfaces, 0);
   v.object("verify", s.verify);
+  v.object("rigid", s.rigid);
+  v.check("rigid", [&] {
+    bool bodies = false;
+    for (const Solid& solid : s.solids) bodies = bodies || solid.rigid_body.has_value();
+    if (s.rigid && !bodies) return "\"rigid\" sets up the shatter loop: give a brittle solid a \"rigid_body\" object";
+    if (bodies && !s.colliders.empty())
+      return "colliders act on MPM particles; the rigid bodies' ground is \"rigid\".\"ground\"";
+    return "";
+  });
 }
 
 }  // namespace shellfrac::scene

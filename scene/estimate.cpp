@@ -349,6 +349,7 @@ ResourceEstimate estimate_resources(const Scene& input) {
     }
   }
   for (size_t i = 0; i < scene.solids.size(); ++i) {
+    if (scene.solids[i].rigid_body) continue;  // the shatter loop's bodies: MPM runs only inside events
     const SolidMaterial& m = *scene.solids[i].material;
     const double E = *m.youngs_modulus, nu = *m.poisson_ratio;
     const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
@@ -376,7 +377,7 @@ ResourceEstimate estimate_resources(const Scene& input) {
       v_path = "/shells/" + std::to_string(i) + "/initial_velocity";
     }
   for (size_t i = 0; i < scene.solids.size(); ++i)
-    if (norm(scene.solids[i].initial_velocity) > vmax) {
+    if (!scene.solids[i].rigid_body && norm(scene.solids[i].initial_velocity) > vmax) {
       vmax = norm(scene.solids[i].initial_velocity);
       v_path = "/solids/" + std::to_string(i) + "/initial_velocity";
     }
@@ -388,9 +389,19 @@ ResourceEstimate estimate_resources(const Scene& input) {
   const double end = scene.time.end.value_or(1.0), rate = scene.time.frame_rate.value_or(24.0);
   e.frames = std::floor(end * rate + 1e-9) + 1;
   e.frames_path = rate > 1000 ? "/time/frame_rate" : "/time/end";
-  // At least one step per frame (sim::Simulation::advance_to).
+  // At least one step per frame (sim::Simulation::advance_to); the shatter loop's rigid steps run inside.
   e.steps = std::max(end / dt, e.frames - 1);
-  e.steps_path = e.frames - 1 >= end / dt ? e.frames_path : end > 1e4 ? "/time/end" : dt_path;
+  bool rigid_bodies = false;
+  for (const Solid& s : scene.solids) rigid_bodies = rigid_bodies || s.rigid_body.has_value();
+  if (rigid_bodies) {
+    const double rigid_dt = scene.rigid && scene.rigid->dt ? *scene.rigid->dt : 1e-3;
+    if (end / rigid_dt > e.steps) {
+      e.steps = end / rigid_dt;
+      e.dt = rigid_dt;
+      dt_path = scene.rigid && scene.rigid->dt ? "/rigid/dt" : "/time/end";
+    }
+  }
+  e.steps_path = e.frames - 1 >= e.steps ? e.frames_path : end > 1e4 ? "/time/end" : dt_path;
   e.frame_bytes = render_vertices * kDiskBytesPerRenderVertex + 256.0 * static_cast<double>(shells.size());
   e.disk_bytes = e.frames * e.frame_bytes;
   e.work = e.steps * std::max(particles, 1.0);

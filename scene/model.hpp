@@ -10,6 +10,7 @@
 #include "brittle/fracture_event.hpp"
 #include "brittle/impact.hpp"
 #include "brittle/solver.hpp"
+#include "shatter/shatter_loop.hpp"
 #include "coupling/interface.hpp"
 #include "mpm/colliders.hpp"
 #include "nurbs/nurbs_surface.hpp"
@@ -158,6 +159,29 @@ struct BrittleBody {
   int crack_interval = 20;        // steps between crack extractions for the two fields
   brittle::FractureEventOptions event;  // h_v, cutter, voxel, gap width
   double sliver_volume = 0;       // fragments smaller than this are slivers, not counted (docs/brittle.md)
+  // Set when the solid is a body of the shatter loop ("rigid_body"): its threshold, spin, collision mesh
+  // budget and surface. Its impacts then come from its contacts.
+  struct Rigid {
+    double impulse_threshold = 0;
+    Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
+    Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+    size_t collision_faces = 10000;
+    rigid::Surface surface;
+    double impact_radius = 0;
+    double contact_times = 3;
+    std::vector<brittle::StrengthRegion> strength_regions;  // reapplied when fragments are resampled
+    brittle::WeibullStrength weibull;
+    brittle::Sampling sampling = brittle::Sampling::Regular;
+    unsigned seed = 1;
+  };
+  std::optional<Rigid> rigid;
+};
+
+// The rigid-body world of the shatter loop (scene key "rigid"; docs/brittle.md, "The shatter loop").
+struct RigidWorldSettings {
+  shatter::ShatterOptions options;  // dt, gravity (the scene's), solver iterations, ground
+  shatter::VolumeRatios ratios;
+  std::vector<shatter::ProjectileSpec> projectiles;
 };
 
 // FLIP share of grid.transfer "flip"/"aflip" when no flip_ratio is given (docs/shell-model.md).
@@ -305,7 +329,9 @@ struct Model {
   GridSettings grid;
   std::vector<Shell> shells;
   std::vector<SolidBody> solids;
-  std::vector<BrittleBody> brittle_solids;  // solids with "fracture": run by the brittle solver
+  std::vector<BrittleBody> brittle_solids;  // solids with "fracture": run by the brittle solver or, with
+                                            // "rigid_body", carried by the shatter loop
+  std::optional<RigidWorldSettings> rigid;  // set when any brittle solid has "rigid_body"
   std::vector<ColliderSpec> colliders;
   std::vector<Pin> pins;
   std::vector<Load> loads;

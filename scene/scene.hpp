@@ -177,6 +177,17 @@ struct MeshFile {
   Opt<double> voxel_size, band_voxels;
 };
 
+// A brittle solid carried by the rigid-body world of the shatter loop (docs/brittle.md, "The shatter
+// loop"): contacts whose impulse in one rigid step passes the threshold start its fracture events.
+struct RigidBodySpec {
+  Opt<double> impulse_threshold;     // RB_imp [N s]
+  Opt<Vec3> angular_velocity;        // [rad/s], world axes
+  Opt<int> collision_faces;          // N_df
+  Opt<double> friction, restitution;
+  Opt<double> impact_radius;         // traction radius of an event's impact [m]
+  Opt<double> contact_times;         // an event's MPM run lasts at most this many t_c
+};
+
 struct Solid {
   Opt<std::string> name;
   Opt<std::string> shape;  // "sphere", "box", "mesh"; brittle solids also "cylinder", "torus"
@@ -196,6 +207,30 @@ struct Solid {
   Opt<SolidStrength> strength;
   std::vector<ImpactSpec> impacts;
   Opt<SolidFracture> fracture;
+  Opt<RigidBodySpec> rigid_body;  // brittle solids only
+};
+
+// The ground of the rigid-body world: a plane, its surface, and its material for the Hertz contact time.
+struct RigidGround {
+  Opt<Vec3> point, normal;
+  Opt<double> friction, restitution, youngs_modulus, poisson_ratio;
+};
+
+// An unbreakable ball of the rigid-body world (billiard ball, marble).
+struct Projectile {
+  Opt<std::string> name;
+  Opt<Vec3> center, velocity, angular_velocity;
+  Opt<double> radius, density, youngs_modulus, poisson_ratio, friction, restitution;
+  Opt<bool> kinematic;
+};
+
+// The rigid-body world of the shatter loop (thesis sec. 3.6): read when a solid has "rigid_body".
+struct RigidWorldSpec {
+  Opt<double> dt;
+  Opt<int> solver_iterations;
+  Opt<Vec3> volume_ratios;  // VR_t, VR_s, VR_l
+  Opt<RigidGround> ground;
+  std::vector<Projectile> projectiles;
 };
 
 struct Keyframe {
@@ -361,6 +396,7 @@ struct Scene {
   Cracks cracks;
   std::vector<Interface> interfaces;
   Opt<SceneVerify> verify;
+  Opt<RigidWorldSpec> rigid;
 
   // Where the scene came from (a file path, "<built-in default>", "<python>"): errors name it, and relative
   // mesh paths are resolved against its folder. Not part of the document.

@@ -222,6 +222,7 @@ void ShatterLoop::fracture(size_t index, const BodyImpact& impact) {
     const std::shared_ptr<const brittle::BrittleSolid> pristine = particles_for(p);
     pieces_[index].particles = pristine;
     brittle::BrittleSolid solid = *pristine;
+    for (brittle::Vec3& v : solid.particles.v) v.setZero();  // sec. 3.2: the body at rest in object space
     r.particles = solid.size();
     r.parent = world_.state(p.body);
     const rigid::Pose world_from_mat = world_from_material(index);
@@ -264,7 +265,19 @@ void ShatterLoop::fracture(size_t index, const BodyImpact& impact) {
 
     brittle::FractureEventOptions eo = root.event;
     if (!(eo.density > 0)) eo.density = solid.material.density;
-    const brittle::FractureEvent ev = brittle::fracture_event(solid, p.mesh, eo, p.name);
+    brittle::FractureEvent ev = brittle::fracture_event(solid, p.mesh, eo, p.name);
+    // Damage that fills most of the body leaves no intact structure for the crack surface to run
+    // between (docs/brittle.md, "Breakage order"): such a body came out whole although it is shattered.
+    // Split it along the order in which it broke instead.
+    if (ev.fragments.fragments.size() < 2 && !eo.breakage.enabled &&
+        static_cast<double>(r.damaged_particles) >= root.breakage_order_above * static_cast<double>(r.particles)) {
+      eo.breakage.enabled = true;
+      const double extract = ev.seconds_extract, cut = ev.seconds_cut;
+      ev = brittle::fracture_event(solid, p.mesh, eo, p.name);
+      ev.seconds_extract += extract;
+      ev.seconds_cut += cut;
+      r.breakage_order = true;
+    }
     r.seconds_extract = ev.seconds_extract;
     r.seconds_cut = ev.seconds_cut;
     totals_.seconds_extract += ev.seconds_extract;

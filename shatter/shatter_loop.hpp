@@ -35,6 +35,9 @@ struct BreakableSpec {
   int crack_interval = 20;        // MPM steps between crack extractions for the two fields
   brittle::FractureEventOptions event;
   double contact_times = 3;       // an event's MPM run lasts at most this many contact times t_c
+  // An event whose crack surface leaves the body whole although at least this share of its particles
+  // broke is cut again along the damage time (brittle::BreakageOrderOptions).
+  double breakage_order_above = 0.5;
   double impulse_threshold = 0;   // RB_imp [N s]
   double impact_radius = 0;       // traction radius around the contact (0: two particle spacings)
   rigid::Vec3 velocity = rigid::Vec3::Zero(), angular_velocity = rigid::Vec3::Zero();
@@ -71,6 +74,7 @@ struct EventRecord {
   int generation = 0;
   std::string outcome;   // "broken", "intact" (the crack did not separate it), "failed"
   std::string message;   // why it failed
+  bool breakage_order = false;  // cut along the damage time (the body was shattered through)
   double impulse = 0, contact_time = 0, approach_speed = 0;
   rigid::Vec3 point = rigid::Vec3::Zero();  // world
   rigid::BodyState parent;                  // the body's state after the rigid step that broke it

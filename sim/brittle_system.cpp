@@ -6,6 +6,7 @@ namespace shellfrac::sim {
 
 BrittleSystem::BrittleSystem(const scene::Model& model) {
   for (const scene::model::BrittleBody& spec : model.brittle_solids) {
+    if (spec.rigid) continue;  // carried by the shatter loop (ShatterSystem)
     Body b;
     b.spec = &spec;
     b.solid = std::make_unique<brittle::BrittleSolid>(*spec.solid);

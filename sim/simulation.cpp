@@ -43,6 +43,7 @@ const Simulation::Stage Simulation::kStages[] = {
     {"shear_particles", &Simulation::stage_shear_particles},  // Type III positions (Eq. 4.10), director
     {"cracks", &Simulation::stage_cracks},                    // every k steps: crack graphs (4.4.2), bases (4.6)
     {"brittle", &Simulation::stage_brittle},                  // brittle solids to t + dt (ch. 3), fracture events
+    {"rigid", &Simulation::stage_rigid},                      // shatter loop to t + dt (3.6): rigid bodies, events
 };
 
 Simulation::Simulation(const scene::Scene& scene) : Simulation(scene::build(scene)) {}
@@ -56,7 +57,8 @@ Simulation::Simulation(const scene::Model& model)
       grid_(grid_spacing(model_, world_)),
       cracks_(model_, world_, grid_.dx()),
       seams_(model_, world_),
-      brittle_(model_) {
+      brittle_(model_),
+      shatter_(model_) {
   // Elastic-wave bound per shell (explicit integration): membrane waves need dt < h / c, bending
   // waves dt < sqrt(3) h^2 / (c tau), with c = sqrt(E / (rho (1 - nu^2))) and h the finer of the grid
   // spacing and the cell size.
@@ -272,6 +274,8 @@ void Simulation::stage_cracks(double) {
     cracks_.count_state(world_);
   }
 }
+
+void Simulation::stage_rigid(double dt) { shatter_.advance_to(time_ + dt); }
 
 void Simulation::stage_brittle(double dt) {
   if (!brittle_.empty()) brittle_.advance_to(time_ + dt);

@@ -23,6 +23,7 @@
 #include "scene/model.hpp"
 #include "scene/scene.hpp"
 #include "sim/brittle_system.hpp"
+#include "sim/shatter_system.hpp"
 #include "sim/crack_system.hpp"
 #include "sim/loads.hpp"
 #include "sim/pin_system.hpp"
@@ -107,6 +108,8 @@ class Simulation {
   const SeamSystem& seams() const { return seams_; }
   // The brittle solids (docs/brittle.md) and their fracture events.
   const BrittleSystem& brittle() const { return brittle_; }
+  // The shatter loop of the brittle solids with "rigid_body" (docs/brittle.md); empty() without them.
+  const ShatterSystem& shatter() const { return shatter_; }
   // Fracture events for the brittle solids still running (called by the run driver at the scene's end).
   void finish_brittle() { brittle_.finish_running(); }
   // True when the scene holds only brittle solids and all of them have had their fracture event.
@@ -128,6 +131,7 @@ class Simulation {
   void stage_shear_particles(double dt);
   void stage_cracks(double dt);
   void stage_brittle(double dt);
+  void stage_rigid(double dt);
   struct Stage {
     const char* name;
     void (Simulation::*run)(double dt);
@@ -147,6 +151,7 @@ class Simulation {
   CrackSystem cracks_;
   SeamSystem seams_;
   BrittleSystem brittle_;
+  ShatterSystem shatter_;
   StageTimer timer_;
   double elastic_bound_ = 0;
   // Per shell: the membrane (h / c) and bending (sqrt(3) h^2 / (c tau)) wave bounds of the NURBS bases.

@@ -51,7 +51,7 @@ TEST(SceneJson, UnknownKeyListsAllowedKeys) {
   const SceneError e = refusal(std::string(R"({"shells": [)") + kSheet + R"(], "grdi": {"dx": 0.1}})");
   EXPECT_EQ(e.json_path(), "/grdi");
   EXPECT_THAT(e.message(), HasSubstr("unknown key \"grdi\": allowed here are colliders, cracks, damping, gravity, grid, interfaces, loads, name, "
-                                      "output, pins, quality, shells, solids, time"));
+                                      "output, pins, quality, rigid, shells, solids, time, verify"));
 }
 
 TEST(SceneJson, TypeErrorsNameTheFoundType) {

@@ -1,0 +1,76 @@
+#include "output/shatter_output.hpp"
+
+#include <cstdio>
+
+#include "output/brittle_output.hpp"
+#include "render_mesh/exporter.hpp"
+
+namespace shellfrac::output {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+ShatterWriter::ShatterWriter(const scene::Model& model, fs::path out_dir) : model_(model), out_dir_(std::move(out_dir)) {}
+
+void ShatterWriter::write_frame(const sim::Simulation& sim, int frame) {
+  if (sim.shatter().empty()) return;
+  const shatter::ShatterLoop& loop = sim.shatter().loop();
+  std::vector<render_mesh::PolyMesh> pieces;
+  for (size_t i = 0; i < loop.pieces().size(); ++i)
+    if (loop.alive(i)) pieces.push_back(poly_mesh(loop.world_mesh(i)));
+  const fs::path dir = out_dir_ / "rigid";
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw std::runtime_error("cannot create output directory " + dir.string() + ": " + ec.message());
+  char stem[32];
+  std::snprintf(stem, sizeof stem, "frame_%05d", frame);
+  const render_mesh::ExportOptions options{model_.output.triangulate, model_.output.double_precision};
+  const fs::path file = render_mesh::export_meshes(pieces, dir, stem, model_.output.format, options);
+  frames_.push_back(fs::relative(file, out_dir_).string());
+}
+
+namespace {
+
+Json vec(const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); }
+
+}  // namespace
+
+Json shatter_json(const shatter::ShatterLoop& loop, const std::vector<std::string>& frames) {
+  Json events = Json::array();
+  for (const shatter::EventRecord& e : loop.events()) {
+    Json j = {{"time", e.time}, {"body", e.body}, {"generation", e.generation}, {"outcome", e.outcome},
+              {"impulse", e.impulse}, {"contact_time", e.contact_time}, {"approach_speed", e.approach_speed},
+              {"point", vec(e.point)}, {"particles", e.particles}, {"mpm_steps", e.mpm_steps},
+              {"damaged_particles", e.damaged_particles}, {"breakage_order", e.breakage_order},
+              {"fragments", e.fragments},
+              {"fragments_by_class", {{"tiny", e.by_class[0]}, {"small", e.by_class[1]}, {"large", e.by_class[2]},
+                                      {"nearly_whole", e.by_class[3]}}},
+              {"seconds", {{"mpm", e.seconds_mpm}, {"extract", e.seconds_extract}, {"cut", e.seconds_cut},
+                           {"spawn", e.seconds_spawn}}},
+              {"conservation", {{"mass", e.mass_error}, {"momentum", e.momentum_error},
+                                {"angular_momentum", e.angular_momentum_error}, {"kinetic_energy_ratio", e.energy_ratio},
+                                {"volume_change", e.volume_change}}}};
+    if (!e.message.empty()) j["message"] = e.message;
+    events.push_back(j);
+  }
+  size_t by_class[4] = {0, 0, 0, 0};
+  size_t alive = 0;
+  for (size_t i = 0; i < loop.pieces().size(); ++i) {
+    const shatter::Piece& p = loop.pieces()[i];
+    if (!loop.alive(i) || p.root < 0 || p.generation == 0) continue;
+    ++by_class[static_cast<int>(p.fragment_class)];
+  }
+  for (size_t i = 0; i < loop.pieces().size(); ++i) alive += loop.alive(i);
+  const shatter::ShatterTotals& t = loop.totals();
+  return {{"events", events},
+          {"pieces", alive},
+          {"fragments_by_class", {{"tiny", by_class[0]}, {"small", by_class[1]}, {"large", by_class[2]},
+                                  {"nearly_whole", by_class[3]}}},
+          {"totals", {{"rigid_steps", t.rigid_steps}, {"rigid_seconds", t.seconds_rigid}, {"mpm_steps", t.mpm_steps},
+                      {"mpm_seconds", t.seconds_mpm}, {"extract_seconds", t.seconds_extract},
+                      {"cut_seconds", t.seconds_cut}, {"spawn_seconds", t.seconds_spawn}, {"events", t.events},
+                      {"broken", t.broken}, {"failed", t.failed}}},
+          {"frames", frames}};
+}
+
+}  // namespace shellfrac::output
