@@ -158,6 +158,7 @@ struct BrittleBody {
   int crack_interval = 20;        // steps between crack extractions for the two fields
   brittle::FractureEventOptions event;  // h_v, cutter, voxel, gap width
   double sliver_volume = 0;       // fragments smaller than this are slivers, not counted (docs/brittle.md)
+  std::string mesh_repair;        // what "repair" changed in the mesh file; empty when it was not repaired
 };
 
 // FLIP share of grid.transfer "flip"/"aflip" when no flip_ratio is given (docs/shell-model.md).
@@ -314,6 +315,8 @@ struct Model {
   // Interfaces declared with "continuity": "none": the edges are checked and measured like the coupled
   // ones (seam metrics, `verify coupling`) but the simulation leaves them free.
   std::vector<InterfaceSpec> uncoupled_seams;
+  // What the build changed in the input (a repaired mesh): the commands print them as warnings.
+  std::vector<std::string> warnings;
   // True when any shell can crack (fracture material or prescribed cuts).
   bool has_cracks() const {
     for (const Shell& s : shells)
