@@ -1,5 +1,5 @@
-// Exact fragment cutting with CGAL Polygon Mesh Processing corefinement (thesis Fig. 3.9d). The only
-// translation unit that includes CGAL: it is slow to compile.
+// Exact fragment cutting with CGAL Polygon Mesh Processing corefinement (thesis Fig. 3.9d). One of the
+// two translation units that include CGAL (with mesh_repair.cpp): it is slow to compile.
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Surface_mesh.h>
@@ -61,6 +61,11 @@ TriMesh from_cgal(const Mesh& m) {
 }
 
 }  // namespace
+
+bool exact_cutter_accepts(const TriMesh& mesh) {
+  Mesh m;
+  return to_cgal(mesh, m);
+}
 
 FragmentSet cut_fragments_exact(const TriMesh& domain, const VoronoiDiagram& diagram, const Regions& regions,
                                 const FragmentOptions& o, const std::string& source) {

@@ -49,6 +49,11 @@ struct FragmentSet {
 FragmentSet cut_fragments(const TriMesh& domain, const VoronoiDiagram& diagram, const Regions& regions,
                           const FragmentOptions& options, const std::string& source);
 
+// Whether the exact cutter can take `mesh` as its domain: its CGAL surface (vertices welded by position,
+// triangles added one by one) builds. A mesh require_closed_solid accepts always does; the tests hold the
+// two checks to that.
+bool exact_cutter_accepts(const TriMesh& mesh);
+
 // Bytes the level-set cutter needs for narrow bands around `area` m^2 of surface at a voxel size (the
 // estimate its memory check uses; the scene build refuses a voxel with it before the run).
 double level_set_cut_bytes(double voxel, double area);

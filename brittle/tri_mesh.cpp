@@ -46,6 +46,42 @@ std::vector<int> weld_by_position(const std::vector<Vec3>& p) {
   return id;
 }
 
+// Vertices (welded ids) where the triangles around them form more than one fan. Around a vertex, the
+// link graph has the other two corners of each triangle as nodes and each triangle as an edge between
+// them; its connected components are the fans (triangles joined across an edge at the vertex, whatever
+// the number of triangles on that edge, so a non-manifold edge is counted once, as an edge).
+size_t count_non_manifold_vertices(std::vector<std::array<int, 3>> corners) {
+  std::sort(corners.begin(), corners.end());  // (vertex, other, other), grouped by vertex
+  size_t count = 0;
+  std::vector<int> nodes, parent;
+  for (size_t begin = 0; begin < corners.size();) {
+    size_t end = begin;
+    while (end < corners.size() && corners[end][0] == corners[begin][0]) ++end;
+    nodes.clear();
+    for (size_t k = begin; k < end; ++k) nodes.insert(nodes.end(), {corners[k][1], corners[k][2]});
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    parent.resize(nodes.size());
+    for (size_t k = 0; k < parent.size(); ++k) parent[k] = static_cast<int>(k);
+    auto local = [&](int w) { return static_cast<int>(std::lower_bound(nodes.begin(), nodes.end(), w) - nodes.begin()); };
+    auto root = [&](int x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    size_t fans = nodes.size();
+    for (size_t k = begin; k < end; ++k) {
+      const int x = root(local(corners[k][1])), y = root(local(corners[k][2]));
+      if (x != y) {
+        parent[x] = y;
+        --fans;
+      }
+    }
+    if (fans > 1) ++count;
+    begin = end;
+  }
+  return count;
+}
+
 }  // namespace
 
 MeshReport inspect_mesh(const TriMesh& mesh) {
@@ -57,6 +93,8 @@ MeshReport inspect_mesh(const TriMesh& mesh) {
   const std::vector<int> id = weld_by_position(mesh.positions);
   // Directed edge counts on welded ids.
   std::map<std::pair<int, int>, std::array<int, 2>> edges;  // (min, max) -> {forward uses, backward uses}
+  std::vector<std::array<int, 3>> corners;                  // (vertex, next, previous) per triangle corner
+  corners.reserve(3 * mesh.triangles.size());
   const Vec3 ref = nv > 0 ? mesh.positions.front() : Vec3::Zero();
   double six_volume = 0;
   for (const Tri& t : mesh.triangles) {
@@ -71,11 +109,14 @@ MeshReport inspect_mesh(const TriMesh& mesh) {
     const Vec3 n = (b - a).cross(c - a);
     if (!(n.norm() > 0)) ++r.degenerate_triangles;
     six_volume += (a - ref).dot((b - ref).cross(c - ref));
+    const int w[3] = {id[t[0]], id[t[1]], id[t[2]]};
+    // The exact cutter drops a triangle with two corners welded together; so does the topology here.
+    if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2]) continue;
     for (int k = 0; k < 3; ++k) {
-      const int u = id[t[k]], w = id[t[(k + 1) % 3]];
-      if (u == w) continue;
-      auto& e = edges[{std::min(u, w), std::max(u, w)}];
-      ++e[u < w ? 0 : 1];
+      const int u = w[k], x = w[(k + 1) % 3];
+      auto& e = edges[{std::min(u, x), std::max(u, x)}];
+      ++e[u < x ? 0 : 1];
+      corners.push_back({u, x, w[(k + 2) % 3]});
     }
   }
   for (const auto& [key, uses] : edges) {
@@ -84,23 +125,48 @@ MeshReport inspect_mesh(const TriMesh& mesh) {
     if (total > 2) ++r.non_manifold_edges;
     if (total == 2 && uses[0] != 1) ++r.inconsistent_edges;
   }
+  r.non_manifold_vertices = count_non_manifold_vertices(std::move(corners));
   r.volume = six_volume / 6.0;
   return r;
 }
 
+namespace {
+
+// "1 boundary edge", "3 boundary edges".
+std::string counted(size_t n, const std::string& one, const std::string& many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+}  // namespace
+
 void require_closed_solid(const TriMesh& mesh, const std::string& source) {
   const MeshReport r = inspect_mesh(mesh);
   std::ostringstream why;
-  if (mesh.triangles.empty()) why << "it has no triangles";
-  else if (r.bad_indices > 0) why << r.bad_indices << " triangle corners name vertices that do not exist";
-  else if (r.non_finite > 0) why << r.non_finite << " vertex positions, normals or UVs are NaN or infinite";
-  else if (!r.closed())
-    why << "it is not closed: " << r.boundary_edges << " boundary edges and " << r.non_manifold_edges
-        << " non-manifold edges (a solid to break needs a watertight surface; fill the holes first)";
-  else if (r.inconsistent_edges > 0)
-    why << r.inconsistent_edges << " edges join triangles of opposite orientation (flip them consistently)";
-  else if (!(std::abs(r.volume) > 0)) why << "it encloses zero volume";
-  else if (r.volume < 0) why << "it is inside out (negative volume " << r.volume << "; flip the triangle order)";
+  if (mesh.triangles.empty()) {
+    why << "it has no triangles";
+  } else if (r.bad_indices > 0) {
+    why << r.bad_indices << " triangle corners name vertices that do not exist";
+  } else if (r.non_finite > 0) {
+    why << r.non_finite << " vertex positions, normals or UVs are NaN or infinite";
+  } else if (!r.closed_manifold()) {
+    // Every count at once: a user fixing the file in an editor wants the whole list, not one per run.
+    std::vector<std::string> parts;
+    if (r.boundary_edges > 0) parts.push_back(counted(r.boundary_edges, "boundary edge", "boundary edges") + " (holes)");
+    if (r.non_manifold_edges > 0)
+      parts.push_back(counted(r.non_manifold_edges, "non-manifold edge", "non-manifold edges") + " (shared by more than two triangles)");
+    if (r.non_manifold_vertices > 0)
+      parts.push_back(counted(r.non_manifold_vertices, "non-manifold vertex", "non-manifold vertices") +
+                      " (where parts touch at a point)");
+    if (r.inconsistent_edges > 0)
+      parts.push_back(counted(r.inconsistent_edges, "edge", "edges") + " with inconsistent orientation (flipped triangles)");
+    why << "it is not a closed manifold surface: ";
+    for (size_t k = 0; k < parts.size(); ++k) why << (k == 0 ? "" : ", ") << parts[k];
+    why << " (a solid to break needs a watertight, consistently oriented surface)";
+  } else if (!(std::abs(r.volume) > 0)) {
+    why << "it encloses zero volume";
+  } else if (r.volume < 0) {
+    why << "it is inside out (negative volume " << r.volume << "; flip the triangle order)";
+  }
   if (why.tellp() > 0) throw InputError(source + ": mesh '" + mesh.name + "' cannot be broken: " + why.str());
 }
 

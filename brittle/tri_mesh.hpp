@@ -29,22 +29,28 @@ struct TriMesh {
   void append(const TriMesh& other);
 };
 
-// Topology and validity of a mesh, with vertices welded by exact position.
+// Topology and validity of a mesh, with vertices welded by exact position: the view of the exact cutter
+// (cut_exact.cpp), which welds the same way and skips triangles whose corners weld together.
 struct MeshReport {
-  size_t boundary_edges = 0;      // edges used by one triangle
-  size_t non_manifold_edges = 0;  // edges used by more than two triangles
-  size_t inconsistent_edges = 0;  // edges whose two triangles traverse it in the same direction
-  size_t bad_indices = 0;         // triangle corners that name no vertex
-  size_t non_finite = 0;          // positions, normals or UVs with NaN or infinity
-  size_t degenerate_triangles = 0;
-  double volume = 0;              // signed, by the divergence theorem (positive when outward)
+  size_t boundary_edges = 0;         // edges used by one triangle (holes)
+  size_t non_manifold_edges = 0;     // edges used by more than two triangles
+  size_t non_manifold_vertices = 0;  // vertices whose triangles, joined across the edges at the vertex, form
+                                     // more than one fan (two solids touching at a point)
+  size_t inconsistent_edges = 0;     // edges whose two triangles traverse it in the same direction
+  size_t bad_indices = 0;            // triangle corners that name no vertex
+  size_t non_finite = 0;             // positions, normals or UVs with NaN or infinity
+  size_t degenerate_triangles = 0;   // zero area (collapsed ones, with corners welded together, included)
+  double volume = 0;                 // signed, by the divergence theorem (positive when outward)
   bool closed() const { return boundary_edges == 0 && non_manifold_edges == 0 && bad_indices == 0; }
+  // Closed, one fan at every vertex and consistently oriented: what the exact cutter can take.
+  bool closed_manifold() const { return closed() && non_manifold_vertices == 0 && inconsistent_edges == 0; }
 };
 MeshReport inspect_mesh(const TriMesh& mesh);
 
-// Refuses a mesh that cannot bound a solid: not closed (counts boundary and non-manifold edges), NaN or
-// infinite values, bad indices, inconsistent orientation, or a volume that is zero or negative (inside
-// out). Throws InputError naming `source` (the file or scene key) and the counts.
+// Refuses a mesh that cannot bound a solid: no triangles, bad indices, NaN or infinite values, not a
+// closed manifold (every count of boundary edges, non-manifold edges, non-manifold vertices and
+// inconsistently oriented edges that is not zero), or a volume that is zero or negative (inside out).
+// Throws InputError naming `source` (the file or scene key) and the counts.
 void require_closed_solid(const TriMesh& mesh, const std::string& source);
 
 // Volume, centre of mass, mass and inertia tensor (about the centre of mass, world axes) of the solid a

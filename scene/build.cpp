@@ -93,8 +93,12 @@ Model build(const Scene& input) {
   }
   m.cracks = build_cracks(scene.cracks);
   for (size_t i = 0; i < scene.solids.size(); ++i) {
-    if (scene.solids[i].fracture) m.brittle_solids.push_back(detail::build_brittle_solid(b, scene.solids[i], i));
-    else m.solids.push_back(detail::build_solid(b, scene.solids[i], i));
+    if (scene.solids[i].fracture) {
+      m.brittle_solids.push_back(detail::build_brittle_solid(b, scene.solids[i], i));
+      if (!m.brittle_solids.back().mesh_repair.empty()) m.warnings.push_back(m.brittle_solids.back().mesh_repair);
+    } else {
+      m.solids.push_back(detail::build_solid(b, scene.solids[i], i));
+    }
   }
   for (const model::BrittleBody& body : m.brittle_solids)
     if (body.rigid && !m.rigid) m.rigid = detail::build_rigid_world(b, scene.rigid);

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "brittle/crack_grid.hpp"
+#include "brittle/mesh_repair.hpp"
 #include "brittle/primitives.hpp"
 #include "brittle/solid_grid.hpp"
 #include "core/format.hpp"
@@ -77,7 +78,8 @@ TriMesh read_obj(const std::filesystem::path& file, double scale, const BVec3& t
 }
 
 // The object's surface: a primitive or a mesh file (OBJ keeps its UVs; other formats through assimp).
-TriMesh solid_mesh(const Builder& b, const Solid& s, const std::string& path) {
+// `repaired` says what "repair" changed, when it did.
+TriMesh solid_mesh(const Builder& b, const Solid& s, const std::string& path, std::string& repaired) {
   const BVec3 c = vec3_or(s.center, {0, 0, 0});
   TriMesh m;
   if (*s.shape == "box") {
@@ -104,11 +106,27 @@ TriMesh solid_mesh(const Builder& b, const Solid& s, const std::string& path) {
     } catch (const std::exception& e) {
       b.fail(path + "/file", file.string() + ": " + e.what());
     }
-    // Refused here, with the file and its boundary-edge count, rather than half-way through a run.
+    // Refused here, with the file and its counts (holes, non-manifold edges and vertices, flipped
+    // triangles), rather than by the exact cutter after the whole simulation. A mesh that passes is
+    // used as it is (with its UVs), even with "repair".
+    m.name = s.name.value_or(*s.shape);
     try {
       brittle::require_closed_solid(m, file.string());
     } catch (const core::InputError& e) {
-      b.fail(path + "/file", e.what());
+      if (!s.mesh.repair.value_or(false)) {
+        // The hint only where orientation is all that is wrong: repair fills no holes and cannot pull
+        // touching parts apart.
+        const brittle::MeshReport r = brittle::inspect_mesh(m);
+        const bool turnable = r.closed() && r.non_manifold_vertices == 0 && (r.inconsistent_edges > 0 || r.volume < 0);
+        b.fail(path + "/file", std::string(e.what()) + (turnable ? "; \"repair\": true can orient it" : ""));
+      }
+      try {
+        brittle::MeshRepair changes;
+        m = brittle::repair_closed_solid(m, file.string(), changes);
+        repaired = file.string() + ": mesh repaired (" + path + "/repair): " + changes.describe();
+      } catch (const core::InputError& after) {
+        b.fail(path + "/file", after.what());
+      }
     }
     brittle::compute_vertex_normals(m);
   }
@@ -145,7 +163,7 @@ model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t 
   model::BrittleBody out;
   out.name = s.name.value_or(*s.shape + std::to_string(index));
   out.json_path = path;
-  out.mesh = solid_mesh(b, s, path);
+  out.mesh = solid_mesh(b, s, path, out.mesh_repair);
   out.mesh.name = out.name;
   const double spacing = *s.spacing;
   BVec3 lo, hi;

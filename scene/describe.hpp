@@ -328,14 +328,17 @@ void describe(V& v, RigidWorldSpec& r) {
   v.objects("projectiles", r.projectiles, 0);
 }
 
-// The keys of a "mesh" solid or collider; a collider must give its voxel size.
+// The keys of a "mesh" solid or collider; a collider must give its voxel size. Only brittle solids
+// repair their mesh (the level sets of the others take any closed surface).
 template <class V>
-void describe_mesh(V& v, MeshFile& m, Need voxel_size) {
+void describe_mesh(V& v, MeshFile& m, Need voxel_size, bool brittle) {
   v.number("voxel_size", m.voxel_size, Range::positive(), voxel_size);
   v.string("file", m.file, kRequired);
   v.number("scale", m.scale, Range::positive());
   v.numbers("translate", m.translate, Range::any());
   v.number("band_voxels", m.band_voxels, Range::closed(1.0, 100.0));
+  v.boolean("repair", m.repair);
+  v.check("repair", [&] { return m.repair && !brittle ? "\"repair\" is only for brittle solids (solids with \"fracture\")" : ""; });
 }
 
 // A solid: Type-I particles of the shell simulation, or, with a "fracture" object, a brittle solid broken
@@ -349,7 +352,7 @@ void describe(V& v, Solid& s) {
   else v.choice("shape", s.shape, {"sphere", "box", "mesh"}, kRequired);  // cylinder, torus: brittle only
   v.number("spacing", s.spacing, Range::positive(), kRequired);
   if (s.shape == "mesh") {
-    describe_mesh(v, s.mesh, kOptional);
+    describe_mesh(v, s.mesh, kOptional, brittle);
   } else if (s.shape == "sphere") {
     v.numbers("center", s.center, Range::any(), kRequired);
     v.number("radius", s.radius, Range::positive(), kRequired);
@@ -446,7 +449,7 @@ void describe(V& v, Collider& c) {
   v.string("name", c.name);
   v.choice("shape", c.shape, {"half_space", "sphere", "box", "mesh"}, kRequired);
   if (c.shape == "mesh") {
-    describe_mesh(v, c.mesh, kRequired);
+    describe_mesh(v, c.mesh, kRequired, false);
   } else if (c.shape == "half_space") {
     v.numbers("point", c.point, Range::any(), kRequired);
     v.numbers("normal", c.normal, Range::any(), kRequired);

@@ -159,6 +159,7 @@ struct BrittleBody {
   int crack_interval = 20;        // steps between crack extractions for the two fields
   brittle::FractureEventOptions event;  // h_v, cutter, voxel, gap width
   double sliver_volume = 0;       // fragments smaller than this are slivers, not counted (docs/brittle.md)
+  std::string mesh_repair;        // what "repair" changed in the mesh file; empty when it was not repaired
   // Set when the solid is a body of the shatter loop ("rigid_body"): its threshold, spin, collision mesh
   // budget and surface. Its impacts then come from its contacts.
   struct Rigid {
@@ -340,6 +341,8 @@ struct Model {
   // Interfaces declared with "continuity": "none": the edges are checked and measured like the coupled
   // ones (seam metrics, `verify coupling`) but the simulation leaves them free.
   std::vector<InterfaceSpec> uncoupled_seams;
+  // What the build changed in the input (a repaired mesh): the commands print them as warnings.
+  std::vector<std::string> warnings;
   // True when any shell can crack (fracture material or prescribed cuts).
   bool has_cracks() const {
     for (const Shell& s : shells)

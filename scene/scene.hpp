@@ -175,6 +175,7 @@ struct MeshFile {
   Opt<double> scale;
   Opt<Vec3> translate;
   Opt<double> voxel_size, band_voxels;
+  Opt<bool> repair;  // brittle solids: make a closed solid of a mesh that is not one (brittle/mesh_repair.hpp)
 };
 
 // A brittle solid carried by the rigid-body world of the shatter loop (docs/brittle.md, "The shatter

@@ -51,6 +51,7 @@ Command add_run_command(CLI::App& app) {
       const scene::ResourceEstimate estimate = scene::estimate_resources(scene);
       scene::check_budget(estimate, make_budget(args->budget, args->out_dir, args->threads), scene.source);
       const scene::Model model = scene::build(scene);
+      for (const std::string& w : model.warnings) std::cerr << "warning: " << w << "\n";
       output::RunOptions options;
       options.out_dir = args->out_dir;
       options.threads = args->threads;

@@ -41,6 +41,7 @@ Command add_validate_command(CLI::App& app) {
       scene::check_budget(estimate, budget, scene.source);
       const std::vector<std::string> warnings = scene::budget_warnings(estimate, budget);
       const scene::Model model = scene::build(scene);
+      for (const std::string& w : model.warnings) std::cerr << "warning: " << w << "\n";
       // Build the simulation too: some checks need the grid (the stability bound of a given dt, the
       // fracture energy against the characteristic length), and solids must sample particles.
       const sim::Simulation sim(model);
