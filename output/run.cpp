@@ -267,13 +267,14 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
   FrameWriter frames(model, options.out_dir);
   BrittleWriter brittle(model, options.out_dir);  // fracture events of brittle solids (docs/brittle.md)
   ShatterWriter shatter(model, options.out_dir);  // rigid bodies and their fragments per frame
+  std::string animation;                          // their glTF animation, once the run ends
   VerificationRecorder verification(sim, options.out_dir);  // probes, reactions, rest (docs/cli.md)
   double peak_kinetic = 0;
   auto finish = [&](const std::string& status, const std::string& error) {
     Summary s = make_summary(sim, frames, threads, peak_kinetic, status);
     if (!error.empty()) s.error = error;
     if (!model.brittle_solids.empty()) s.brittle = brittle.reports(sim);
-    if (!sim.shatter().empty()) s.shatter = shatter_json(sim.shatter().loop(), shatter.frames());
+    if (!sim.shatter().empty()) s.shatter = shatter_json(sim.shatter().loop(), shatter.frames(), animation);
     verification.finish(sim, s);
     s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     render_mesh::write_file_atomically(options.out_dir / "summary.json", to_json(s).dump(2) + "\n");
@@ -322,6 +323,7 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
     }
     sim.finish_brittle();
     brittle.write_new_events(sim);
+    animation = shatter.write_animation(sim);
   } catch (const core::NumericalError& e) {
     finish("failed", e.what());
     throw;

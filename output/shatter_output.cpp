@@ -3,7 +3,9 @@
 #include <cstdio>
 
 #include "output/brittle_output.hpp"
+#include "render_mesh/atomic_write.hpp"
 #include "render_mesh/exporter.hpp"
+#include "render_mesh/gltf_writer.hpp"
 
 namespace shellfrac::output {
 
@@ -16,8 +18,14 @@ void ShatterWriter::write_frame(const sim::Simulation& sim, int frame) {
   if (sim.shatter().empty()) return;
   const shatter::ShatterLoop& loop = sim.shatter().loop();
   std::vector<render_mesh::PolyMesh> pieces;
+  std::vector<std::optional<rigid::Pose>> poses(loop.pieces().size());
   for (size_t i = 0; i < loop.pieces().size(); ++i)
-    if (loop.alive(i)) pieces.push_back(poly_mesh(loop.world_mesh(i)));
+    if (loop.alive(i)) {
+      pieces.push_back(poly_mesh(loop.world_mesh(i)));
+      poses[i] = loop.world().state(loop.pieces()[i].body).pose;
+    }
+  times_.push_back(static_cast<float>(sim.time()));
+  poses_.push_back(std::move(poses));
   const fs::path dir = out_dir_ / "rigid";
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -29,13 +37,47 @@ void ShatterWriter::write_frame(const sim::Simulation& sim, int frame) {
   frames_.push_back(fs::relative(file, out_dir_).string());
 }
 
+std::string ShatterWriter::write_animation(const sim::Simulation& sim) {
+  if (sim.shatter().empty() || times_.empty()) return "";
+  const shatter::ShatterLoop& loop = sim.shatter().loop();
+  const size_t n = loop.pieces().size();
+  std::vector<render_mesh::PolyMesh> meshes;
+  std::vector<render_mesh::NodeTrack> tracks(n);
+  for (size_t i = 0; i < n; ++i) {
+    const shatter::Piece& p = loop.pieces()[i];
+    meshes.push_back(poly_mesh(rigid::transformed(p.mesh, p.material_to_body)));
+    meshes.back().name = p.name;
+    // A piece holds its first pose before it exists and its last after it broke, hidden by scale 0.
+    std::optional<rigid::Pose> held;
+    for (const auto& frame : poses_)
+      if (i < frame.size() && frame[i]) {
+        held = frame[i];
+        break;
+      }
+    render_mesh::NodeTrack& t = tracks[i];
+    for (size_t f = 0; f < poses_.size(); ++f) {
+      const bool alive = i < poses_[f].size() && poses_[f][i].has_value();
+      if (alive) held = poses_[f][i];
+      t.times.push_back(times_[f]);
+      t.translations.push_back(held ? held->translation : Eigen::Vector3d::Zero());
+      t.rotations.push_back(held ? held->rotation : Eigen::Quaterniond::Identity());
+      t.scales.push_back(alive ? 1.0f : 0.0f);
+    }
+  }
+  const fs::path dir = out_dir_ / "rigid";
+  const render_mesh::GltfDocument doc = render_mesh::gltf_document(meshes, "shatter.bin", tracks);
+  render_mesh::write_file_atomically(dir / "shatter.bin", doc.binary);  // the buffer before the file naming it
+  render_mesh::write_file_atomically(dir / "shatter.gltf", doc.json);
+  return "rigid/shatter.gltf";
+}
+
 namespace {
 
 Json vec(const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); }
 
 }  // namespace
 
-Json shatter_json(const shatter::ShatterLoop& loop, const std::vector<std::string>& frames) {
+Json shatter_json(const shatter::ShatterLoop& loop, const std::vector<std::string>& frames, const std::string& animation) {
   Json events = Json::array();
   for (const shatter::EventRecord& e : loop.events()) {
     Json j = {{"time", e.time}, {"body", e.body}, {"generation", e.generation}, {"outcome", e.outcome},
@@ -70,7 +112,8 @@ Json shatter_json(const shatter::ShatterLoop& loop, const std::vector<std::strin
                       {"mpm_seconds", t.seconds_mpm}, {"extract_seconds", t.seconds_extract},
                       {"cut_seconds", t.seconds_cut}, {"spawn_seconds", t.seconds_spawn}, {"events", t.events},
                       {"broken", t.broken}, {"failed", t.failed}}},
-          {"frames", frames}};
+          {"frames", frames},
+          {"animation", animation}};
 }
 
 }  // namespace shellfrac::output

@@ -64,8 +64,10 @@ class BufferBuilder {
     append_integer(views_, static_cast<long long>(offset));
     views_ += ",\"byteLength\":";
     append_integer(views_, static_cast<long long>(bytes.size()));
-    views_ += ",\"target\":";
-    append_integer(views_, target);
+    if (target) {  // animation data has no target (glTF 2.0, sec. 3.6.2)
+      views_ += ",\"target\":";
+      append_integer(views_, target);
+    }
     views_ += '}';
     if (!accessors_.empty()) accessors_ += ',';
     accessors_ += "{\"bufferView\":";
@@ -162,7 +164,54 @@ std::string uri_escape(const std::string& text) {
   return out;
 }
 
-GltfDocument gltf_document(const std::vector<PolyMesh>& meshes, const std::string& buffer_uri) {
+// Animation of the nodes with keys: samplers and channels of one animation (glTF 2.0, sec. 3.11).
+std::string animation_json(BufferBuilder& buffer, const std::vector<NodeTrack>& tracks) {
+  std::string samplers, channels;
+  int sampler = 0;
+  for (size_t node = 0; node < tracks.size(); ++node) {
+    const NodeTrack& t = tracks[node];
+    if (t.times.empty()) continue;
+    const int n = static_cast<int>(t.times.size());
+    std::string times;
+    for (float x : t.times) put_f32(times, x);
+    const float lo = t.times.front(), hi = t.times.back();
+    const int input = buffer.add(std::move(times), n, "SCALAR", kFloat, 0,
+                                 ",\"min\":" + float_array(&lo, 1) + ",\"max\":" + float_array(&hi, 1));
+    std::string tr, rot, scale;
+    for (int k = 0; k < n; ++k) {
+      for (int c = 0; c < 3; ++c) put_f32(tr, static_cast<float>(t.translations[static_cast<size_t>(k)][c]));
+      const Eigen::Quaterniond& q = t.rotations[static_cast<size_t>(k)];
+      for (double c : {q.x(), q.y(), q.z(), q.w()}) put_f32(rot, static_cast<float>(c));
+      for (int c = 0; c < 3; ++c) put_f32(scale, t.scales[static_cast<size_t>(k)]);
+    }
+    const int outputs[3] = {buffer.add(std::move(tr), n, "VEC3", kFloat, 0), buffer.add(std::move(rot), n, "VEC4", kFloat, 0),
+                            buffer.add(std::move(scale), n, "VEC3", kFloat, 0)};
+    const char* paths[3] = {"translation", "rotation", "scale"};
+    for (int c = 0; c < 3; ++c) {
+      if (!samplers.empty()) samplers += ',', channels += ',';
+      samplers += "{\"input\":";
+      append_integer(samplers, input);
+      samplers += ",\"output\":";
+      append_integer(samplers, outputs[c]);
+      samplers += c == 2 ? ",\"interpolation\":\"STEP\"}" : ",\"interpolation\":\"LINEAR\"}";
+      channels += "{\"sampler\":";
+      append_integer(channels, sampler++);
+      channels += ",\"target\":{\"node\":";
+      append_integer(channels, static_cast<long long>(node));
+      channels += ",\"path\":\"";
+      channels += paths[c];
+      channels += "\"}}";
+    }
+  }
+  if (samplers.empty()) return "";
+  return "{\"name\":\"motion\",\"samplers\":[" + samplers + "],\"channels\":[" + channels + "]}";
+}
+
+GltfDocument gltf_document(const std::vector<PolyMesh>& meshes, const std::string& buffer_uri,
+                           const std::vector<NodeTrack>& tracks) {
+  if (!tracks.empty() && tracks.size() != meshes.size())
+    throw std::invalid_argument("glTF writer: one track per mesh is needed (" + std::to_string(tracks.size()) +
+                                " for " + std::to_string(meshes.size()) + ")");
   BufferBuilder buffer;
   std::string nodes, gltf_meshes, scene_nodes;
   int mesh_count = 0;
@@ -228,6 +277,7 @@ GltfDocument gltf_document(const std::vector<PolyMesh>& meshes, const std::strin
     gltf_meshes += ",\"primitives\":[" + primitives + "]}";
   }
 
+  const std::string animation = animation_json(buffer, tracks);
   GltfDocument doc;
   std::string& j = doc.json;
   j = "{\"asset\":{\"version\":\"2.0\",\"generator\":\"shellfrac\"},\"scene\":0,\"scenes\":[{";
@@ -239,6 +289,7 @@ GltfDocument gltf_document(const std::vector<PolyMesh>& meshes, const std::strin
     j += ",\"materials\":[{\"name\":\"shell\",\"doubleSided\":true,\"pbrMetallicRoughness\":"
          "{\"baseColorFactor\":[0.8,0.8,0.8,1],\"metallicFactor\":0,\"roughnessFactor\":0.5}}]";
   }
+  if (!animation.empty()) j += ",\"animations\":[" + animation + "]";
   if (!buffer.empty()) {
     j += ",\"accessors\":[" + buffer.accessors() + "]";
     j += ",\"bufferViews\":[" + buffer.views() + "]";

@@ -20,6 +20,9 @@
 #include <string>
 #include <vector>
 
+#include <assimp/Importer.hpp>
+#include <assimp/scene.h>
+
 #include "tests/cli/cli_process.hpp"
 
 namespace {
@@ -608,6 +611,38 @@ TEST(ShatterCli, ShatterDropBreaksBodiesAndKeepsTheirVolume) {
     v1 += v;
   }
   EXPECT_NEAR(v1, v0, 1e-6 * v0);
+  // The glTF animation read back through assimp: one node per piece that ever existed, one animation
+  // channel per node with a key per frame, and the last key of every piece still whole at the centre of
+  // mass of its object in the last frame's OBJ (1e-5 m: both files hold single-precision numbers).
+  ASSERT_EQ(sh["animation"], "rigid/shatter.gltf");
+  Assimp::Importer importer;
+  const aiScene* gltf = importer.ReadFile((out / "rigid" / "shatter.gltf").string(), 0);
+  ASSERT_NE(gltf, nullptr) << importer.GetErrorString();
+  const size_t ever = 4 + broken + added;  // originals, then every broken body's fragments
+  EXPECT_EQ(gltf->mRootNode->mNumChildren, ever);
+  ASSERT_EQ(gltf->mNumAnimations, 1u);
+  EXPECT_EQ(gltf->mAnimations[0]->mNumChannels, ever);
+  std::map<std::string, std::array<double, 3>> last_key;
+  for (unsigned c = 0; c < gltf->mAnimations[0]->mNumChannels; ++c) {
+    const aiNodeAnim* ch = gltf->mAnimations[0]->mChannels[c];
+    EXPECT_EQ(ch->mNumPositionKeys, 31u) << ch->mNodeName.C_Str();
+    EXPECT_EQ(ch->mNumRotationKeys, 31u);
+    const aiVector3D& p = ch->mPositionKeys[ch->mNumPositionKeys - 1].mValue;
+    last_key[ch->mNodeName.C_Str()] = {p.x, p.y, p.z};
+  }
+  for (const ObjObject& o : last.objects) {
+    // centre of mass of the closed surface: sum over fan tetrahedra from the origin
+    double vol = 0, c[3] = {0, 0, 0};
+    for (const auto& f : o.faces)
+      for (size_t k = 1; k + 1 < f.size(); ++k) {
+        const auto &a = last.points[f[0]], &b = last.points[f[k]], &q = last.points[f[k + 1]];
+        const double v = (a[0] * (b[1] * q[2] - b[2] * q[1]) - a[1] * (b[0] * q[2] - b[2] * q[0]) + a[2] * (b[0] * q[1] - b[1] * q[0])) / 6;
+        vol += v;
+        for (int d = 0; d < 3; ++d) c[d] += v * (a[d] + b[d] + q[d]) / 4;
+      }
+    ASSERT_TRUE(last_key.count(o.name)) << o.name;
+    for (int d = 0; d < 3; ++d) EXPECT_NEAR(last_key[o.name][d], c[d] / vol, 1e-5) << o.name;
+  }
   // every piece rests on the ground (z = 0) at the end: its lowest point within 2 mm of it
   for (const ObjObject& o : last.objects) {
     double lowest = 1e9;
