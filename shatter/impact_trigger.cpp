@@ -42,4 +42,28 @@ std::vector<BodyImpact> gather_impacts(const std::vector<rigid::ContactPoint>& c
   return out;
 }
 
+BodyImpact merge_impacts(const std::vector<BodyImpact>& steps) {
+  BodyImpact m;
+  rigid::Vec3 push = rigid::Vec3::Zero();
+  double largest = 0;
+  for (const BodyImpact& i : steps) {
+    if (!(i.impulse > 0)) continue;
+    m.body = i.body;
+    m.impulse += i.impulse;
+    m.point += i.impulse * i.point;
+    push += i.impulse * i.direction;
+    m.approach_speed = std::max(m.approach_speed, i.approach_speed);
+    if (i.impulse > largest) {
+      largest = i.impulse;
+      m.partner = i.partner;
+      m.partner_impulse = i.partner_impulse;
+    }
+  }
+  if (m.impulse > 0) {
+    m.point /= m.impulse;
+    m.direction = push.norm() > 0 ? rigid::Vec3(push.normalized()) : rigid::Vec3::Zero();
+  }
+  return m;
+}
+
 }  // namespace shellfrac::shatter

@@ -21,4 +21,9 @@ struct BodyImpact {
 // One entry per body that took a positive normal impulse in the step, in order of body id.
 std::vector<BodyImpact> gather_impacts(const std::vector<rigid::ContactPoint>& contacts);
 
+// One impact from a body's impacts over consecutive steps (the rigid solver resolves a collision over two
+// or three steps): impulses summed; point and direction weighted by impulse; the largest closing speed
+// (the first step's, before the collision slowed it); the partner of the largest step.
+BodyImpact merge_impacts(const std::vector<BodyImpact>& steps);
+
 }  // namespace shellfrac::shatter

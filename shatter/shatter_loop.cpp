@@ -177,14 +177,39 @@ void ShatterLoop::step() {
   ++totals_.rigid_steps;
   release_separated_siblings();
   totals_.seconds_rigid += seconds_since(t0);
-  std::vector<std::pair<size_t, BodyImpact>> triggered;
-  for (const BodyImpact& i : gather_impacts(world_.contacts())) {
-    const int piece = static_cast<size_t>(i.body) < piece_of_body_.size() ? piece_of_body_[i.body] : -1;
-    if (piece < 0 || !pieces_[static_cast<size_t>(piece)].breakable) continue;
-    const BreakableSpec& root = roots_[static_cast<size_t>(pieces_[static_cast<size_t>(piece)].root)];
-    if (i.impulse > root.impulse_threshold) triggered.emplace_back(static_cast<size_t>(piece), i);
+  // Every body's impacts of the last steps; a step without contact still ages the window.
+  const size_t window = static_cast<size_t>(std::max(options_.impulse_window, 1));
+  std::map<int, BodyImpact> now;
+  for (const BodyImpact& i : gather_impacts(world_.contacts())) now[i.body] = i;
+  for (auto& [body, list] : recent_) {
+    if (!now.count(body)) list.push_back(BodyImpact{});
   }
-  for (const auto& [piece, impact] : triggered) fracture(piece, impact);
+  for (const auto& [body, i] : now) recent_[body].push_back(i);
+  std::vector<std::pair<size_t, BodyImpact>> triggered;
+  for (auto it = recent_.begin(); it != recent_.end();) {
+    std::deque<BodyImpact>& list = it->second;
+    while (list.size() > window) list.pop_front();
+    const int body = it->first;
+    const bool empty = std::none_of(list.begin(), list.end(), [](const BodyImpact& i) { return i.impulse > 0; });
+    if (empty || !world_.has_body(body)) {
+      it = recent_.erase(it);
+      continue;
+    }
+    const int piece = static_cast<size_t>(body) < piece_of_body_.size() ? piece_of_body_[static_cast<size_t>(body)] : -1;
+    // Judged once the collision has passed its peak (this step's impulse below the last one's), so that
+    // the event carries the whole collision, not its first step.
+    const bool peaked = list.size() >= 2 && list.back().impulse < list[list.size() - 2].impulse;
+    if (piece >= 0 && pieces_[static_cast<size_t>(piece)].breakable && peaked) {
+      const BreakableSpec& root = roots_[static_cast<size_t>(pieces_[static_cast<size_t>(piece)].root)];
+      const BodyImpact total = merge_impacts({list.begin(), list.end()});
+      if (total.impulse > root.impulse_threshold) triggered.emplace_back(static_cast<size_t>(piece), total);
+    }
+    ++it;
+  }
+  for (const auto& [piece, impact] : triggered) {
+    recent_.erase(impact.body);  // this collision is spent, whatever the event made of it
+    fracture(piece, impact);
+  }
 }
 
 void ShatterLoop::release_separated_siblings() {
@@ -297,6 +322,7 @@ void ShatterLoop::fracture(size_t index, const BodyImpact& impact) {
     const std::shared_ptr<const brittle::BrittleSolid> parent_particles = pristine;
     const int generation = p.generation + 1, root_index = p.root;
     world_.remove_body(parent_body);
+    recent_.erase(parent_body);
     piece_of_body_[static_cast<size_t>(parent_body)] = -1;
     pieces_[index].body = -1;
     pieces_[index].died = time_;

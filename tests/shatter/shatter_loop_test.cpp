@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <deque>
 
 #include "brittle/primitives.hpp"
 #include "core/error.hpp"
@@ -45,15 +46,17 @@ ShatterOptions on_the_ground() {
   return o;
 }
 
-// Falls from 1.25 m (5 m/s at impact): the impact delivers about m (1 + e) v = 1 * 1.01 * 5 N s.
+// Falls from 1.25 m (5 m/s at impact): Bullet resolves the collision over three steps (1.37, 4.21 and
+// 0.09 N s), and the loop sums a body's impulses over its last three steps (ShatterOptions::impulse_window).
 TEST(ShatterLoop, EventsStartOnlyAboveTheThresholdWithTheDeliveredImpulse) {
-  for (const double threshold : {20.0, 2.0}) {
+  for (const double threshold : {20.0, 5.0}) {
     ShatterLoop loop(on_the_ground());
     loop.add_breakable(cube(Vec3(0, 0, 1.3), threshold));
-    rigid::BodyState before;
+    std::deque<rigid::BodyState> before;  // the states before the last three steps
     bool hit = false;
     while (loop.time() < 0.6 && loop.events().empty()) {
-      before = loop.world().state(loop.pieces()[0].body);
+      before.push_back(loop.world().state(loop.pieces()[0].body));
+      if (before.size() > 3) before.pop_front();
       loop.step();
       hit = hit || !loop.world().contacts().empty();
     }
@@ -64,11 +67,13 @@ TEST(ShatterLoop, EventsStartOnlyAboveTheThresholdWithTheDeliveredImpulse) {
     }
     ASSERT_EQ(loop.events().size(), 1u);
     const EventRecord& e = loop.events()[0];
-    // The momentum the world gave the cube in the step, less gravity's, is the event's impulse (1e-9).
+    // The momentum the world gave the cube over the window, less gravity's, is the event's impulse (1e-9):
+    // the whole collision (5.67 N s), judged once it passed its peak; more than any single step's
+    // (4.21 N s), so the threshold of 5 N s is passed only by the sum.
     const double m = 1.0;
-    const Vec3 change = m * (e.parent.velocity - before.velocity) - m * Vec3(0, 0, -9.81) * 1e-3;
-    EXPECT_NEAR(change.z(), e.impulse, 1e-9 * e.impulse) << before.velocity.transpose() << " / " << e.parent.velocity.transpose() << " t " << e.time;
-    EXPECT_GT(e.impulse, 2.0);
+    const Vec3 change = m * (e.parent.velocity - before.front().velocity) - m * Vec3(0, 0, -9.81) * 3e-3;
+    EXPECT_NEAR(change.z(), e.impulse, 1e-9 * e.impulse);
+    EXPECT_GT(e.impulse, 5.0);
     EXPECT_LT(e.impulse, 20.0);
     EXPECT_GT(e.contact_time, 0);
     EXPECT_GT(e.mpm_steps, 0u);
@@ -85,7 +90,7 @@ namespace {
 std::unique_ptr<ShatterLoop> broken_cube(const VolumeRatios& ratios) {
   auto loop = std::make_unique<ShatterLoop>(on_the_ground());
   BreakableSpec s = cube(Vec3(0, 0, 1.3), 1.0);
-  s.velocity = Vec3(0.7, -0.4, -2);  // 7.2 m/s at the ground
+  s.velocity = Vec3(0.7, -0.4, -1);  // 6.0 m/s at the ground
   s.angular_velocity = Vec3(3, -5, 7);
   s.spawn.ratios = ratios;
   loop->add_breakable(s);
@@ -179,9 +184,9 @@ TEST(ShatterLoop, LargeFragmentBreaksAgain) {
     if (loop->pieces()[i].fragment_class == FragmentClass::Large) large = i;
   ASSERT_LT(large, loop->pieces().size()) << "the first event made no large fragment";
   const std::string name = loop->pieces()[large].name;
-  // 4 m/s: faster (5, 7, 12 m/s) damages 86-99 % of its 329 particles and the crack extraction finds no
-  // intact structure to cut around (one piece, outcome "intact"); breakage_order would be needed there
-  loop->world().set_velocity(loop->pieces()[large].body, Vec3(0, 0, -4), Vec3::Zero());
+  // 6 m/s (8 and 10 break it too; 3 and 4 damage 14-27 % of its 1,075 particles without a crack that
+  // separates it: outcome "intact")
+  loop->world().set_velocity(loop->pieces()[large].body, Vec3(0, 0, -6), Vec3::Zero());
   const double until = loop->time() + 0.3;
   while (loop->time() < until && loop->alive(large)) loop->step();
   bool found = false;
