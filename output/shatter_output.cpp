@@ -80,7 +80,7 @@ Json vec(const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); 
 Json shatter_json(const shatter::ShatterLoop& loop, const std::vector<std::string>& frames, const std::string& animation) {
   Json events = Json::array();
   for (const shatter::EventRecord& e : loop.events()) {
-    Json j = {{"time", e.time}, {"body", e.body}, {"generation", e.generation}, {"outcome", e.outcome},
+    Json j = {{"time", e.time}, {"body", e.body}, {"partner", e.partner}, {"generation", e.generation}, {"outcome", e.outcome},
               {"impulse", e.impulse}, {"contact_time", e.contact_time}, {"approach_speed", e.approach_speed},
               {"point", vec(e.point)}, {"particles", e.particles}, {"mpm_steps", e.mpm_steps},
               {"damaged_particles", e.damaged_particles}, {"breakage_order", e.breakage_order},

@@ -195,6 +195,16 @@ int RigidWorld::add_body(const BodyDesc& d) {
     body->setCollisionFlags(body->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
     body->setActivationState(DISABLE_DEACTIVATION);
   } else {
+    // Continuous collision detection for bodies that move more than a fraction of their size in a step
+    // (a 13 mm ball at 80 m/s moves 40 mm per 0.5 ms step and passed through a statue without it).
+    double size = 2 * d.radius;
+    if (d.shape != Shape::Sphere) {
+      brittle::Vec3 lo, hi;
+      brittle::bounding_box(d.mesh, lo, hi);
+      size = (hi - lo).minCoeff();
+    }
+    body->setCcdMotionThreshold(0.25 * size);
+    body->setCcdSweptSphereRadius(0.4 * size);
     body->setLinearVelocity(bt(d.velocity));
     body->setAngularVelocity(bt(d.angular_velocity));
     body->activate(true);

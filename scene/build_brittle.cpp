@@ -346,6 +346,16 @@ model::RigidWorldSettings build_rigid_world(const Builder& b, const Opt<RigidWor
     ps.surface = rigid::Surface{p.friction.value_or(0.5), p.restitution.value_or(0.5)};
     w.projectiles.push_back(ps);
   }
+  for (size_t i = 0; i < r.props.size(); ++i) {
+    const RigidProp& p = r.props[i];
+    shatter::PropSpec prop;
+    prop.name = p.name.value_or("prop" + std::to_string(i));
+    prop.centre = vec3(*p.center);
+    prop.half_extents = vec3(*p.half_extents);
+    prop.surface = rigid::Surface{p.friction.value_or(0.5), p.restitution.value_or(0.2)};
+    prop.material = brittle::HertzBody{p.youngs_modulus.value_or(3e10), p.poisson_ratio.value_or(0.2)};
+    w.props.push_back(prop);
+  }
   return w;
 }
 

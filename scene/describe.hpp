@@ -312,6 +312,17 @@ void describe(V& v, Projectile& p) {
   v.boolean("kinematic", p.kinematic);
 }
 
+template <class V>
+void describe(V& v, RigidProp& p) {
+  v.string("name", p.name);
+  v.numbers("center", p.center, Range::any(), kRequired);
+  v.numbers("half_extents", p.half_extents, Range::positive(), kRequired);
+  v.number("friction", p.friction, Range::non_negative());
+  v.number("restitution", p.restitution, Range::closed(0.0, 1.0));
+  v.number("E", p.youngs_modulus, Range::positive());
+  v.number("nu", p.poisson_ratio, Range::open(-1.0, 0.5));
+}
+
 // The rigid-body world of the shatter loop (docs/brittle.md, "The shatter loop").
 template <class V>
 void describe(V& v, RigidWorldSpec& r) {
@@ -326,6 +337,7 @@ void describe(V& v, RigidWorldSpec& r) {
   });
   v.object("ground", r.ground);
   v.objects("projectiles", r.projectiles, 0);
+  v.objects("props", r.props, 0);
 }
 
 // The keys of a "mesh" solid or collider; a collider must give its voxel size. Only brittle solids

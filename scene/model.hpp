@@ -183,6 +183,7 @@ struct RigidWorldSettings {
   shatter::ShatterOptions options;  // dt, gravity (the scene's), solver iterations, ground
   shatter::VolumeRatios ratios;
   std::vector<shatter::ProjectileSpec> projectiles;
+  std::vector<shatter::PropSpec> props;
 };
 
 // FLIP share of grid.transfer "flip"/"aflip" when no flip_ratio is given (docs/shell-model.md).

@@ -225,6 +225,13 @@ struct Projectile {
   Opt<bool> kinematic;
 };
 
+// A static box of the rigid-body world (a column, a table top).
+struct RigidProp {
+  Opt<std::string> name;
+  Opt<Vec3> center, half_extents;
+  Opt<double> friction, restitution, youngs_modulus, poisson_ratio;
+};
+
 // The rigid-body world of the shatter loop (thesis sec. 3.6): read when a solid has "rigid_body".
 struct RigidWorldSpec {
   Opt<double> dt;
@@ -232,6 +239,7 @@ struct RigidWorldSpec {
   Opt<Vec3> volume_ratios;  // VR_t, VR_s, VR_l
   Opt<RigidGround> ground;
   std::vector<Projectile> projectiles;
+  std::vector<RigidProp> props;
 };
 
 struct Keyframe {

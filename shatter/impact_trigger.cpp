@@ -9,17 +9,17 @@ std::vector<BodyImpact> gather_impacts(const std::vector<rigid::ContactPoint>& c
   struct Sum {
     BodyImpact impact;
     rigid::Vec3 push = rigid::Vec3::Zero();
-    std::map<int, double> by_partner;
   };
-  std::map<int, Sum> sums;
+  std::map<std::pair<int, int>, Sum> sums;
   const auto add = [&](int body, int partner, const rigid::ContactPoint& c, const rigid::Vec3& push) {
-    Sum& s = sums[body];
+    Sum& s = sums[{body, partner}];
     s.impact.body = body;
+    s.impact.partner = partner;
     s.impact.impulse += c.impulse;
+    s.impact.partner_impulse += c.impulse;
     s.impact.point += c.impulse * c.point;
     s.impact.approach_speed += c.impulse * std::max(c.approach_speed, 0.0);
     s.push += c.impulse * push;
-    s.by_partner[partner] += c.impulse;
   };
   for (const rigid::ContactPoint& c : contacts) {
     if (!(c.impulse > 0)) continue;
@@ -27,16 +27,11 @@ std::vector<BodyImpact> gather_impacts(const std::vector<rigid::ContactPoint>& c
     add(c.b, c.a, c, -c.normal);  // b along -normal
   }
   std::vector<BodyImpact> out;
-  for (auto& [body, s] : sums) {
+  for (auto& [key, s] : sums) {
     BodyImpact i = s.impact;
     i.point /= i.impulse;
     i.approach_speed /= i.impulse;
     i.direction = s.push.norm() > 0 ? rigid::Vec3(s.push.normalized()) : rigid::Vec3::Zero();
-    for (const auto& [partner, share] : s.by_partner)
-      if (share > i.partner_impulse) {
-        i.partner = partner;
-        i.partner_impulse = share;
-      }
     out.push_back(i);
   }
   return out;

@@ -14,16 +14,18 @@ struct BodyImpact {
   rigid::Vec3 point = rigid::Vec3::Zero();      // impulse-weighted contact point (world)
   rigid::Vec3 direction = rigid::Vec3::Zero();  // unit direction of the impulse on the body (into it)
   double approach_speed = 0;             // impulse-weighted closing speed of its contacts [m/s]
-  int partner = -1;                      // the body that delivered the largest share
+  int partner = -1;                      // the body that delivered it
   double partner_impulse = 0;
 };
 
-// One entry per body that took a positive normal impulse in the step, in order of body id.
+// One entry per (body, partner) pair whose contacts gave the body a positive normal impulse in the step,
+// in order of body and partner id: each collision is judged on its own (a statue's weight on its column
+// must neither add to the blow of a ball nor pull the blow's point into the statue).
 std::vector<BodyImpact> gather_impacts(const std::vector<rigid::ContactPoint>& contacts);
 
 // One impact from a body's impacts over consecutive steps (the rigid solver resolves a collision over two
 // or three steps): impulses summed; point and direction weighted by impulse; the largest closing speed
-// (the first step's, before the collision slowed it); the partner of the largest step.
+// (the first step's, before the collision slowed it).
 BodyImpact merge_impacts(const std::vector<BodyImpact>& steps);
 
 }  // namespace shellfrac::shatter

@@ -120,6 +120,15 @@ void ShatterLoop::add_static_mesh(const std::string& name, const brittle::TriMes
   if (piece_of_body_.size() <= static_cast<size_t>(id)) piece_of_body_.resize(static_cast<size_t>(id) + 1, -1);
 }
 
+void ShatterLoop::add_prop(const PropSpec& prop) {
+  if (!(prop.half_extents.minCoeff() > 0)) throw core::InputError("prop \"" + prop.name + "\": half_extents must be > 0");
+  rigid::Pose pose;
+  pose.translation = prop.centre;
+  const int id = world_.add_static_box(prop.name, pose, prop.half_extents, prop.surface);
+  if (piece_of_body_.size() <= static_cast<size_t>(id)) piece_of_body_.resize(static_cast<size_t>(id) + 1, -1);
+  static_material_[id] = prop.material;
+}
+
 rigid::Pose ShatterLoop::world_from_material(size_t piece) const {
   const Piece& p = pieces_[piece];
   return world_.state(p.body).pose * p.material_to_body;
@@ -144,7 +153,8 @@ RigidMoments ShatterLoop::moments(const std::vector<size_t>& pieces) const {
 
 brittle::HertzBody ShatterLoop::hertz_body(int body, const rigid::Vec3& point) const {
   const int piece = body >= 0 && static_cast<size_t>(body) < piece_of_body_.size() ? piece_of_body_[body] : -1;
-  if (piece < 0) {  // ground or static mesh: infinite radius and mass
+  if (piece < 0) {  // ground, prop or static mesh: infinite radius and mass
+    if (const auto it = static_material_.find(body); it != static_material_.end()) return it->second;
     return ground_ ? ground_->material : brittle::HertzBody{3e10, 0.2};
   }
   const Piece& p = pieces_[static_cast<size_t>(piece)];
@@ -177,19 +187,18 @@ void ShatterLoop::step() {
   ++totals_.rigid_steps;
   release_separated_siblings();
   totals_.seconds_rigid += seconds_since(t0);
-  // Every body's impacts of the last steps; a step without contact still ages the window.
+  // Every collision's impacts of the last steps; a step without contact still ages its window.
   const size_t window = static_cast<size_t>(std::max(options_.impulse_window, 1));
-  std::map<int, BodyImpact> now;
-  for (const BodyImpact& i : gather_impacts(world_.contacts())) now[i.body] = i;
-  for (auto& [body, list] : recent_) {
-    if (!now.count(body)) list.push_back(BodyImpact{});
-  }
-  for (const auto& [body, i] : now) recent_[body].push_back(i);
-  std::vector<std::pair<size_t, BodyImpact>> triggered;
+  std::map<std::pair<int, int>, BodyImpact> now;
+  for (const BodyImpact& i : gather_impacts(world_.contacts())) now[{i.body, i.partner}] = i;
+  for (auto& [key, list] : recent_)
+    if (!now.count(key)) list.push_back(BodyImpact{});
+  for (const auto& [key, i] : now) recent_[key].push_back(i);
+  std::map<size_t, BodyImpact> triggered;  // per piece, its strongest collision
   for (auto it = recent_.begin(); it != recent_.end();) {
     std::deque<BodyImpact>& list = it->second;
     while (list.size() > window) list.pop_front();
-    const int body = it->first;
+    const int body = it->first.first;
     const bool empty = std::none_of(list.begin(), list.end(), [](const BodyImpact& i) { return i.impulse > 0; });
     if (empty || !world_.has_body(body)) {
       it = recent_.erase(it);
@@ -202,12 +211,17 @@ void ShatterLoop::step() {
     if (piece >= 0 && pieces_[static_cast<size_t>(piece)].breakable && peaked) {
       const BreakableSpec& root = roots_[static_cast<size_t>(pieces_[static_cast<size_t>(piece)].root)];
       const BodyImpact total = merge_impacts({list.begin(), list.end()});
-      if (total.impulse > root.impulse_threshold) triggered.emplace_back(static_cast<size_t>(piece), total);
+      if (total.impulse > root.impulse_threshold) {
+        const auto [t, added] = triggered.try_emplace(static_cast<size_t>(piece), total);
+        if (!added && total.impulse > t->second.impulse) t->second = total;
+      }
     }
     ++it;
   }
   for (const auto& [piece, impact] : triggered) {
-    recent_.erase(impact.body);  // this collision is spent, whatever the event made of it
+    // this body's collisions are spent, whatever the event made of them
+    for (auto it = recent_.begin(); it != recent_.end();)
+      it = it->first.first == impact.body ? recent_.erase(it) : std::next(it);
     fracture(piece, impact);
   }
 }
@@ -237,6 +251,7 @@ void ShatterLoop::fracture(size_t index, const BodyImpact& impact) {
   r.time = time_;
   r.body = pieces_[index].name;
   r.generation = pieces_[index].generation;
+  r.partner = world_.has_body(impact.partner) ? world_.name(impact.partner) : "";
   r.impulse = impact.impulse;
   r.point = impact.point;
   r.approach_speed = impact.approach_speed;
@@ -254,8 +269,11 @@ void ShatterLoop::fracture(size_t index, const BodyImpact& impact) {
     const rigid::Pose mat_from_world = world_from_mat.inverse();
     // The contact lies on the decimated collision shape: move it onto the render surface.
     brittle::Vec3 point = mat_from_world.apply(impact.point);
-    const brittle::TriangleIndex surface(p.mesh.positions, p.mesh.triangles, 2 * solid.spacing, kInf);
-    const brittle::TriangleIndex::Hit hit = surface.closest(point, kInf);
+    brittle::Vec3 lo, hi;
+    brittle::bounding_box(p.mesh, lo, hi);
+    const double reach = (hi - lo).norm();
+    const brittle::TriangleIndex surface(p.mesh.positions, p.mesh.triangles, 2 * solid.spacing, reach);
+    const brittle::TriangleIndex::Hit hit = surface.closest(point, reach);
     if (hit.found) point = hit.point;
     const double speed = std::max(impact.approach_speed, 1e-6);
     r.contact_time = brittle::hertz_contact_time(hertz_body(p.body, impact.point),
@@ -322,7 +340,6 @@ void ShatterLoop::fracture(size_t index, const BodyImpact& impact) {
     const std::shared_ptr<const brittle::BrittleSolid> parent_particles = pristine;
     const int generation = p.generation + 1, root_index = p.root;
     world_.remove_body(parent_body);
-    recent_.erase(parent_body);
     piece_of_body_[static_cast<size_t>(parent_body)] = -1;
     pieces_[index].body = -1;
     pieces_[index].died = time_;

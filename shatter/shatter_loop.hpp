@@ -56,6 +56,14 @@ struct ProjectileSpec {
   rigid::Surface surface;
 };
 
+// A static box in the world (a column, a table top, a wall).
+struct PropSpec {
+  std::string name;
+  rigid::Vec3 centre = rigid::Vec3::Zero(), half_extents = rigid::Vec3::Zero();
+  rigid::Surface surface;
+  brittle::HertzBody material{3e10, 0.2};  // infinite radius and mass
+};
+
 struct GroundSpec {
   rigid::Vec3 point = rigid::Vec3::Zero(), normal = rigid::Vec3(0, 0, 1);
   rigid::Surface surface;
@@ -76,6 +84,7 @@ struct ShatterOptions {
 struct EventRecord {
   double time = 0;
   std::string body;
+  std::string partner;   // what hit it ("ground", a prop, a projectile, another piece)
   int generation = 0;
   std::string outcome;   // "broken", "intact" (the crack did not separate it), "failed"
   std::string message;   // why it failed
@@ -119,6 +128,7 @@ class ShatterLoop {
   void add_breakable(const BreakableSpec& spec);
   void add_projectile(const ProjectileSpec& spec);
   void add_static_mesh(const std::string& name, const brittle::TriMesh& mesh, const rigid::Surface& surface);
+  void add_prop(const PropSpec& prop);
 
   // Rigid steps (each followed by any fracture events it triggered) until the loop's time reaches t.
   void advance_to(double t);
@@ -153,9 +163,11 @@ class ShatterLoop {
   // apart with energy the fracture never had. They ignore each other until their bounds part.
   std::vector<std::pair<int, int>> ignored_siblings_;
   void release_separated_siblings();
-  std::vector<int> piece_of_body_;
-  std::map<int, std::deque<BodyImpact>> recent_;  // per body: its impacts of the last impulse_window steps  // rigid id -> piece (-1: ground, static)
+  std::vector<int> piece_of_body_;                 // rigid id -> piece (-1: ground, static)
+  // per (body, partner): the impacts of the last impulse_window steps
+  std::map<std::pair<int, int>, std::deque<BodyImpact>> recent_;
   std::optional<GroundSpec> ground_;
+  std::map<int, brittle::HertzBody> static_material_;  // static bodies other than the ground
   int ground_id_ = -1;
   std::vector<EventRecord> events_;
   ShatterTotals totals_;

@@ -30,6 +30,7 @@ ShatterSystem::ShatterSystem(const scene::Model& model) {
     loop_->add_breakable(s);
   }
   for (const shatter::ProjectileSpec& p : model.rigid->projectiles) loop_->add_projectile(p);
+  for (const shatter::PropSpec& p : model.rigid->props) loop_->add_prop(p);
 }
 
 void ShatterSystem::advance_to(double t) {

@@ -187,7 +187,7 @@ TEST(BrittleCli, EveryBrittleSceneValidates) {
     const Result r = shellfrac("validate " + e.path().string());
     EXPECT_EQ(r.exit_code, 0) << e.path() << "\n" << r.output;
   }
-  EXPECT_EQ(count, 5);
+  EXPECT_EQ(count, 6);
 }
 
 // Three-point bending of a notched beam: the crack runs from the notch through the height, so the beam
