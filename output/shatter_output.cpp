@@ -98,11 +98,11 @@ Json shatter_json(const shatter::ShatterLoop& loop, const std::vector<std::strin
   size_t by_class[4] = {0, 0, 0, 0};
   size_t alive = 0;
   for (size_t i = 0; i < loop.pieces().size(); ++i) {
+    if (!loop.alive(i)) continue;
+    ++alive;
     const shatter::Piece& p = loop.pieces()[i];
-    if (!loop.alive(i) || p.root < 0 || p.generation == 0) continue;
-    ++by_class[static_cast<int>(p.fragment_class)];
+    if (p.root >= 0 && p.generation > 0) ++by_class[static_cast<int>(p.fragment_class)];  // fragments only
   }
-  for (size_t i = 0; i < loop.pieces().size(); ++i) alive += loop.alive(i);
   const shatter::ShatterTotals& t = loop.totals();
   return {{"events", events},
           {"pieces", alive},

@@ -15,26 +15,13 @@
 #include <string>
 #include <vector>
 
+#include "scene/describe_brittle.hpp"
+#include "scene/describe_common.hpp"
 #include "scene/range.hpp"
 #include "scene/scene.hpp"
 
 namespace shellfrac::scene {
 
-enum class Need { optional, required };
-constexpr Need kRequired = Need::required;
-constexpr Need kOptional = Need::optional;
-
-inline const Range kCells = Range::closed(1, 10000);
-
-// Error message when `format` is not an export format (lists the allowed ones), or "".
-std::string export_format_problem(const std::string& format);
-
-namespace detail {
-inline double norm3(const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
-inline std::string nonzero_direction(const Opt<Vec3>& v) {
-  return v && norm3(*v) < 1e-12 ? "direction must be a non-zero vector" : "";
-}
-}  // namespace detail
 
 template <class V>
 void describe_frame(V& v, Patch& p) {
@@ -182,162 +169,6 @@ void describe(V& v, SolidMaterial& m) {
   v.number("fracture_energy", m.fracture_energy, Range::positive());
   v.choice("damage_rule", m.damage_rule, {"healing", "monotone"});
   v.number("characteristic_length", m.characteristic_length, Range::positive());
-}
-
-// A box or sphere in material space: a removed region, or (in "strength") one with its failure stress.
-template <class V>
-void describe(V& v, SolidRegion& r) {
-  v.choice("shape", r.shape, {"box", "sphere"}, kRequired);
-  v.numbers("center", r.center, Range::any(), kRequired);
-  if (r.shape == "box") v.numbers("half_extents", r.half_extents, Range::positive(), kRequired);
-  if (r.shape == "sphere") v.number("radius", r.radius, Range::positive(), kRequired);
-  v.number("failure_stress", r.failure_stress, Range::positive());
-}
-
-template <class V>
-void describe(V& v, WeibullSpec& w) {
-  v.number("modulus", w.modulus, Range::positive(), kRequired);
-  v.boolean("scale_is_mean", w.scale_is_mean);
-  v.integer("seed", w.seed, Range::closed(0, 2147483647));
-}
-
-template <class V>
-void describe(V& v, SolidStrength& s) {
-  v.objects("regions", s.regions, 0);
-  for (size_t i = 0; i < s.regions.size(); ++i)
-    v.check("regions/" + std::to_string(i), [&s, i] {
-      return s.regions[i].failure_stress ? "" : "a strength region needs \"failure_stress\"";
-    });
-  v.object("weibull", s.weibull);
-}
-
-template <class V>
-void describe(V& v, HertzSpec& h) {
-  v.number("E", h.youngs_modulus, Range::positive(), kRequired);
-  v.number("nu", h.poisson_ratio, Range::open(-1.0, 0.5), kRequired);
-  v.number("radius", h.radius, Range::positive(), kRequired);
-  v.number("mass", h.mass, Range::positive(), kRequired);
-  v.number("speed", h.speed, Range::positive(), kRequired);
-}
-
-template <class V>
-void describe(V& v, ImpactSpec& i) {
-  v.numbers("point", i.point, Range::any(), kRequired);
-  v.numbers("direction", i.direction, Range::any(), kRequired);
-  v.check("direction", [&] { return detail::nonzero_direction(i.direction); });
-  v.number("impulse", i.impulse, Range::positive(), kRequired);
-  v.number("duration", i.duration, Range::positive());
-  v.object("hertz", i.hertz);
-  v.check("duration", [&] {
-    return i.duration.has_value() == i.hertz.has_value()
-               ? "an impact needs exactly one of \"duration\" or \"hertz\" (the projectile of Eq. 3.11)"
-               : "";
-  });
-  v.number("start_time", i.start_time, Range::non_negative());
-  v.number("radius", i.radius, Range::positive());
-}
-
-template <class V>
-void describe(V& v, FractureStop& s) {
-  v.number("damaged_fraction", s.damaged_fraction, Range::left_open(0.0, 1.0));
-  v.integer("max_steps", s.max_steps, Range::closed(1, 100000000));
-  v.number("max_time", s.max_time, Range::positive());
-}
-
-template <class V>
-void describe(V& v, BreakageOrder& b) {
-  v.number("dynamics", b.dynamics, Range::closed(0.0, 1.0));
-  v.number("min_share", b.min_share, Range::closed(0.0, 0.5));
-  v.integer("smoothing_steps", b.smoothing_steps, Range::closed(0, 1000));
-}
-
-template <class V>
-void describe(V& v, SolidFracture& f) {
-  v.number("grid_spacing", f.grid_spacing, Range::positive());
-  v.number("crack_grid_spacing", f.crack_grid_spacing, Range::positive());
-  v.number("cfl", f.cfl, Range::left_open(0.0, 1.0));
-  v.boolean("two_fields", f.two_fields);
-  v.boolean("field_contact", f.field_contact);
-  v.integer("crack_interval", f.crack_interval, Range::closed(1, 1000000));
-  v.object("stop", f.stop);
-  v.check("stop", [&] {
-    return f.stop && !f.stop->damaged_fraction && !f.stop->max_time && !f.stop->max_steps
-               ? "a fracture run needs a stopping criterion: \"stop\" with damaged_fraction, max_steps or max_time"
-               : "";
-  });
-  v.choice("cutter", f.cutter, {"exact", "level_set"});
-  v.number("voxel", f.voxel, Range::positive());
-  v.number("gap_width", f.gap_width, Range::non_negative());
-  v.number("sliver_volume", f.sliver_volume, Range::non_negative());
-  v.object("breakage_order", f.breakage_order);
-}
-
-template <class V>
-void describe(V& v, RigidBodySpec& r) {
-  v.number("impulse_threshold", r.impulse_threshold, Range::positive(), kRequired);
-  v.numbers("angular_velocity", r.angular_velocity, Range::any());
-  v.integer("collision_faces", r.collision_faces, Range::closed(4, 10000000));
-  v.number("friction", r.friction, Range::non_negative());
-  v.number("restitution", r.restitution, Range::closed(0.0, 1.0));
-  v.number("impact_radius", r.impact_radius, Range::positive());
-  v.number("contact_times", r.contact_times, Range::positive());
-}
-
-template <class V>
-void describe(V& v, RigidGround& g) {
-  v.numbers("point", g.point, Range::any());
-  v.numbers("normal", g.normal, Range::any());
-  v.check("normal", [&] {
-    const bool zero = g.normal && (*g.normal)[0] == 0 && (*g.normal)[1] == 0 && (*g.normal)[2] == 0;
-    return zero ? "the ground normal must not be zero" : "";
-  });
-  v.number("friction", g.friction, Range::non_negative());
-  v.number("restitution", g.restitution, Range::closed(0.0, 1.0));
-  v.number("E", g.youngs_modulus, Range::positive());
-  v.number("nu", g.poisson_ratio, Range::open(-1.0, 0.5));
-}
-
-template <class V>
-void describe(V& v, Projectile& p) {
-  v.string("name", p.name);
-  v.numbers("center", p.center, Range::any(), kRequired);
-  v.number("radius", p.radius, Range::positive(), kRequired);
-  v.numbers("velocity", p.velocity, Range::any());
-  v.numbers("angular_velocity", p.angular_velocity, Range::any());
-  v.number("density", p.density, Range::positive(), kRequired);
-  v.number("E", p.youngs_modulus, Range::positive(), kRequired);
-  v.number("nu", p.poisson_ratio, Range::open(-1.0, 0.5), kRequired);
-  v.number("friction", p.friction, Range::non_negative());
-  v.number("restitution", p.restitution, Range::closed(0.0, 1.0));
-  v.boolean("kinematic", p.kinematic);
-}
-
-template <class V>
-void describe(V& v, RigidProp& p) {
-  v.string("name", p.name);
-  v.numbers("center", p.center, Range::any(), kRequired);
-  v.numbers("half_extents", p.half_extents, Range::positive(), kRequired);
-  v.number("friction", p.friction, Range::non_negative());
-  v.number("restitution", p.restitution, Range::closed(0.0, 1.0));
-  v.number("E", p.youngs_modulus, Range::positive());
-  v.number("nu", p.poisson_ratio, Range::open(-1.0, 0.5));
-}
-
-// The rigid-body world of the shatter loop (docs/brittle.md, "The shatter loop").
-template <class V>
-void describe(V& v, RigidWorldSpec& r) {
-  v.number("dt", r.dt, Range::positive());
-  v.integer("solver_iterations", r.solver_iterations, Range::closed(1, 1000));
-  v.numbers("volume_ratios", r.volume_ratios, Range::left_open(0.0, 1.0));
-  v.check("volume_ratios", [&] {
-    const Opt<Vec3>& q = r.volume_ratios;
-    return q && !((*q)[0] < (*q)[1] && (*q)[1] < (*q)[2])
-               ? "volume ratios [VR_t, VR_s, VR_l] must increase: 0 < VR_t < VR_s < VR_l <= 1"
-               : "";
-  });
-  v.object("ground", r.ground);
-  v.objects("projectiles", r.projectiles, 0);
-  v.objects("props", r.props, 0);
 }
 
 // The keys of a "mesh" solid or collider; a collider must give its voxel size. Only brittle solids
