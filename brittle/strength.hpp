@@ -2,6 +2,8 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "core/weibull.hpp"
+
 namespace shellfrac::brittle {
 
 // A part of the object (in material space) with its own failure stress, e.g. a weak seam or a strong
@@ -15,23 +17,15 @@ struct StrengthRegion {
   bool contains(const Eigen::Vector3d& x) const;
 };
 
-// Heterogeneous strength: sigma_f per particle drawn from a Weibull distribution,
-// P(sigma_f <= s) = 1 - exp(-(s / s0)^m), with the local sigma_f (material or region) as s0, or as the
-// mean when scale_is_mean. Each particle's draw depends only on (seed, particle index): the same for any
-// thread count and any order of evaluation.
-struct WeibullStrength {
-  bool enabled = false;
-  double modulus = 0;  // m (Weibull modulus; glass ~ 5-15, ceramics ~ 10-20)
-  bool scale_is_mean = false;
-  unsigned long long seed = 1;
-};
+// Heterogeneous strength: sigma_f per particle drawn from a Weibull distribution (core/weibull.hpp),
+// with the local sigma_f (material or region) as its scale, or as its mean when scale_is_mean.
+using WeibullStrength = core::WeibullStrength;
 
 // Failure stress of every particle: `base` everywhere, the regions' values inside them, then the Weibull
 // factor. Throws InputError for non-positive stresses or a Weibull modulus <= 0.
 std::vector<double> assign_failure_stress(const std::vector<Eigen::Vector3d>& rest_positions, double base,
                                           const std::vector<StrengthRegion>& regions, const WeibullStrength& weibull);
 
-// Uniform number in (0, 1) from (seed, index) by a SplitMix64 hash (counter-based, order-independent).
-double hashed_uniform(unsigned long long seed, unsigned long long index);
+using core::hashed_uniform;
 
 }  // namespace shellfrac::brittle

@@ -54,25 +54,50 @@ size_t extend_tips(CrackGraph& graph, CrackIndex& index, const DamageField& fiel
     const Point from = graph.vertices()[trace_back(graph, tip, settings.direction_length)];
     // Only a crack with an established direction is extended; a short stub would point anywhere.
     if ((p - from).norm() < settings.min_direction) continue;
-    const Point dir = (p - from).normalized();
+    const Point along = (p - from).normalized();
     const int nearest_seed = band_edge_grid.nearest(p, 10.0 * h);
     const double radius = nearest_seed >= 0 ? (band_edge[nearest_seed] - p).norm() : 0.0;
     const double max_length = old_tip ? settings.edge_ligament : 1.5 * radius + h;
-    // March while the material ahead is damaged and no crack is crossed; stop on the patch edge.
-    double reached = 0.0;
-    bool hit_edge = false;
-    for (double t = settings.step; t <= max_length + 1e-12; t += settings.step) {
-      Segment step{p + dir * reached, p + dir * t};
-      const bool inside = box_contains(domain, step.b);
-      if (!inside) {
-        if (!clip_segment_to_box(step, domain)) break;
+    // March from the tip along d while the material ahead is damaged and no crack is crossed; stop on the
+    // patch edge. Returns the length reached; hit tells whether the edge was reached.
+    auto march = [&](const Point& d, double length, bool& hit) {
+      double reached = 0.0;
+      hit = false;
+      for (double t = settings.step; t <= length + 1e-12; t += settings.step) {
+        Segment step{p + d * reached, p + d * t};
+        const bool inside = box_contains(domain, step.b);
+        if (!inside) {
+          if (!clip_segment_to_box(step, domain)) break;
+        }
+        if (!field.damaged_at(step.b)) break;
+        if (index.crosses(step.a + d * (1e-6 * h), step.b)) break;
+        reached = (step.b - p).norm();
+        if (!inside) {
+          hit = true;
+          break;
+        }
       }
-      if (!field.damaged_at(step.b)) break;
-      if (index.crosses(step.a + dir * (1e-6 * h), step.b)) break;
-      reached = (step.b - p).norm();
-      if (!inside) {
+      return reached;
+    };
+    Point dir = along;
+    bool hit_edge = false;
+    double reached = march(dir, max_length, hit_edge);
+    // A damaged ligament between the tip and a near patch edge breaks across its narrowest section: when
+    // the straight way out to that edge is fully damaged and shorter than the march along the crack, the
+    // tip goes there instead (only edges ahead of the tip). Along the crack direction alone, a tip beside a corner ran diagonally through
+    // the ligament and landed past a control point, which was left tied to the wrong side (a pinned corner
+    // of cloth-two-balls then stretched 10x).
+    const Point outward[4] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
+    const double gap[4] = {p.x() - domain.lo.x(), domain.hi.x() - p.x(), p.y() - domain.lo.y(), domain.hi.y() - p.y()};
+    for (int side = 0; side < 4; ++side) {
+      // Only edges ahead of the tip: turning back or square to the crack would cut along it.
+      if (gap[side] > settings.edge_ligament || outward[side].dot(along) <= 0.0) continue;
+      bool hit = false;
+      const double r = march(outward[side], settings.edge_ligament, hit);
+      if (hit && (!hit_edge || r < reached)) {
+        dir = outward[side];
+        reached = r;
         hit_edge = true;
-        break;
       }
     }
     if (reached <= 0.0 || (old_tip && !hit_edge)) continue;

@@ -48,7 +48,7 @@ model::CrackSettings build_cracks(const Cracks& c) {
   out.contact_friction = c.contact_friction.value_or(out.contact_friction);
   out.max_support = c.max_support.value_or(out.max_support);
   out.shadow_offset = c.shadow_offset.value_or(out.shadow_offset);
-  out.tip_diffraction = c.tip_weights.value_or("visibility") == "diffraction";
+  out.tip_diffraction = c.tip_weights.value_or("diffraction") == "diffraction";
   return out;
 }
 

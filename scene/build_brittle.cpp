@@ -233,12 +233,7 @@ model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t 
   brittle::WeibullStrength weibull;
   if (s.strength) {
     for (const SolidRegion& r : s.strength->regions) regions.push_back(region_of(r));
-    if (const Opt<WeibullSpec>& w = s.strength->weibull) {
-      weibull.enabled = true;
-      weibull.modulus = *w->modulus;
-      weibull.scale_is_mean = w->scale_is_mean.value_or(false);
-      weibull.seed = static_cast<unsigned long long>(w->seed.value_or(1));
-    }
+    weibull = weibull_of(s.strength->weibull);
   }
   try {
     solid->set_strength(regions, weibull, dx);

@@ -21,6 +21,15 @@ inline std::vector<Eigen::Vector2d> points2(const std::vector<Vec2>& pts) {
   for (const Vec2& p : pts) out.push_back(vec2(p));
   return out;
 }
+inline core::WeibullStrength weibull_of(const Opt<WeibullSpec>& w) {
+  core::WeibullStrength out;
+  if (!w) return out;
+  out.enabled = true;
+  out.modulus = *w->modulus;
+  out.scale_is_mean = w->scale_is_mean.value_or(false);
+  out.seed = static_cast<unsigned long long>(w->seed.value_or(1));
+  return out;
+}
 inline std::string index_path(const std::string& list, size_t i) { return list + "/" + std::to_string(i); }
 // The Greville abscissa of basis function i mapped to [0, 1] over the knot vector's domain: a control
 // point's place in the patch, as pin regions and initial velocity fields name it.

@@ -86,6 +86,7 @@ model::FractureSpec fracture_of(const Fracture& f) {
     fr.fracture_energy = r.fracture_energy;
     out.regions.push_back(std::move(fr));
   }
+  out.weibull = weibull_of(f.weibull);
   return out;
 }
 

@@ -92,6 +92,7 @@ void describe(V& v, Fracture& f) {
   v.choice("damage_rule", f.damage_rule, {"healing", "monotone"});
   v.number("residual_stiffness", f.residual_stiffness, Range::closed(0.0, 0.1));
   v.objects("regions", f.regions, 0);
+  v.object("weibull", f.weibull);
 }
 
 template <class V>

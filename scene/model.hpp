@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "brittle/fracture_event.hpp"
+#include "core/weibull.hpp"
 #include "brittle/impact.hpp"
 #include "brittle/solver.hpp"
 #include "shatter/shatter_loop.hpp"
@@ -37,6 +38,7 @@ struct FractureSpec {
   shell::DamageRule rule = shell::DamageRule::Healing;
   double residual_stiffness = 0;  // r in [0, 0.1]: tensile principal stresses scaled by 1 - (1 - r) c
   std::vector<FailureRegion> regions;  // later regions win where they overlap
+  core::WeibullStrength weibull;       // then a seeded factor per in-plane point (keeps each point's H)
 };
 
 // Elastic material of a shell (SI units). Lamé parameters follow thesis Eq. 2.4.
@@ -294,9 +296,10 @@ struct CrackSettings {
   double contact_friction = 0.3;   // Coulomb coefficient between fragments (Eq. 4.25)
   double max_support = 4.5;        // MLS support cap in cells (sec. 4.6)
   double shadow_offset = 1e-5;     // render-mesh shadow vertex offset Dv (sec. 4.9.3)
-  // Weights of control points hidden behind a crack near its tip: false = visibility (thesis sec. 4.6),
-  // true = diffraction (docs/mls.md, "Tip weights").
-  bool tip_diffraction = false;
+  // Weights of control points hidden behind a crack near its tip: true = diffraction (the default: the
+  // surface stays closed at tips and around bends, docs/mls.md "Tip weights"), false = the thesis's
+  // straight-line visibility (sec. 4.6).
+  bool tip_diffraction = true;
 };
 
 struct TimeSettings {

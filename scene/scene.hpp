@@ -53,12 +53,20 @@ struct FailureRegion {
   Opt<double> failure_stress, fracture_energy;
 };
 
+// A seeded Weibull draw of the failure stress per material point (core/weibull.hpp).
+struct WeibullSpec {
+  Opt<double> modulus;
+  Opt<bool> scale_is_mean;
+  Opt<int> seed;
+};
+
 // Rankine damage with explicit cracks (thesis sec. 4.4.1).
 struct Fracture {
   Opt<double> failure_stress, fracture_energy;
   Opt<std::string> damage_rule;  // "healing" or "monotone"
   Opt<double> residual_stiffness;  // share of the tensile stress a fully damaged point keeps
   std::vector<FailureRegion> regions;
+  Opt<WeibullSpec> weibull;  // heterogeneous strength per in-plane point, after the regions
 };
 
 struct Material {
@@ -121,12 +129,6 @@ struct SolidRegion {
   Opt<Vec3> center, half_extents;
   Opt<double> radius;
   Opt<double> failure_stress;  // strength regions only
-};
-
-struct WeibullSpec {
-  Opt<double> modulus;
-  Opt<bool> scale_is_mean;
-  Opt<int> seed;
 };
 
 // Heterogeneous strength of a brittle solid: regions, then an optional seeded Weibull draw per particle.

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <vector>
 
+#include "core/weibull.hpp"
 #include "scene/scene_error.hpp"
 #include "sim/seam_system.hpp"
 
@@ -142,6 +143,12 @@ CrackSystem::CrackSystem(const scene::Model& model, World& world, double grid_dx
         for (size_t q = 0; q < patch.num_inplane_points(); ++q)
           if (inside_polygon(patch.parameter(q), r.polygon)) patch.set_failure_stress(q, r.failure_stress, h);
       }
+      // Heterogeneous strength: each in-plane point's sigma_f (material or region) times its own seeded
+      // Weibull factor. H stays the point's, as for a region without its own fracture energy, so G_f
+      // scales with sigma_f^2 and no draw can fall below the grid's minimum fracture energy.
+      if (f.weibull.enabled)
+        for (size_t q = 0; q < patch.num_inplane_points(); ++q)
+          patch.set_failure_stress(q, patch.failure_stress(q) * core::weibull_factor(f.weibull, q), patch.brittleness(q));
     }
     if (!f.enabled && s.cuts.empty()) continue;
     const auto& ku = s.surface.knots_u();

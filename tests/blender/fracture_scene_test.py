@@ -55,14 +55,43 @@ def crack_components(graph):
     return len({find(a) for a, _ in graph["edges"]})
 
 
+# Shipped tears that do not yet meet the clean-in-every-frame criteria (check_clean_every_frame), with what
+# was measured under the default (2026-12-04). Their values are printed, not asserted; every other
+# fracture scene must meet them.
+KNOWN_UNCLEAN = {
+    "cloth-two-balls": "peak edge stretch 3.21 at frame 4, at the tip of the balls' crack",
+    "rubber-notches": "peak edge stretch 3.24 at frame 3",
+    "spiral-cut": "peak edge stretch 9.59 at frame 16, strand area 1.3e-5 m^2: the narrow ribbon's points extrapolate",
+}
+
+
+def check_clean_every_frame(name, m):
+    """Clean in every frame: no render edge of any frame stretched beyond 3 (the strand threshold), no
+    strand face in any frame, no slivers."""
+    problems = []
+    if m["peak_edge_stretch"]["value"] > 3.0:
+        problems.append("peak edge stretch %.3f at frame %s, expected at most 3"
+                        % (m["peak_edge_stretch"]["value"], m["peak_edge_stretch"]["frame"]))
+    if m["peak_strand_area"] != 0.0:
+        problems.append("strand area %g m^2 in some frame, expected 0" % m["peak_strand_area"])
+    if m["slivers"]["count"] != 0:
+        problems.append("%d sliver(s), expected 0" % m["slivers"]["count"])
+    if name in KNOWN_UNCLEAN:
+        print("%s: known failure (%s): %s" % (name, KNOWN_UNCLEAN[name], "; ".join(problems) or "now clean"))
+        return
+    bt.check(not problems, "%s: %s" % (name, "; ".join(problems)))
+
+
 def check_scene_criteria(name, summary):
     """The per-scene validation of issue 12, on the shipped scene at its shipped resolution. Every
-    fracture scene: no material without a basis and the strict-subset property of the crack graph."""
+    fracture scene: no material without a basis, the strict-subset property of the crack graph, and clean
+    in every frame."""
     m = summary["metrics"]
     cracks = m["cracks"]
     bt.check(cracks["mls_failures"] == 0, "%s: mls_failures %d, expected 0" % (name, cracks["mls_failures"]))
     bt.check(cracks["subset_violations"] == 0,
              "%s: %d subset violations, expected 0" % (name, cracks["subset_violations"]))
+    check_clean_every_frame(name, m)
     if name == "tear-mode-one":
         bt.check(m["pieces"] == 2 and min(m["piece_areas"]) >= 0.4,
                  "%s: pieces %d with areas %s, expected 2 of at least 0.4 m^2" % (name, m["pieces"], m["piece_areas"]))

@@ -147,6 +147,12 @@ const BadCase kBadCases[] = {
     {"fracture_residual_too_large", "/shells/0/material/fracture",
      R"({"failure_stress": 1e4, "fracture_energy": 100, "residual_stiffness": 0.5})",
      "/shells/0/material/fracture/residual_stiffness", "in [0, 0.1]"},
+    {"fracture_weibull_zero_modulus", "/shells/0/material/fracture",
+     R"({"failure_stress": 1e4, "fracture_energy": 100, "weibull": {"modulus": 0}})",
+     "/shells/0/material/fracture/weibull/modulus", "must be > 0"},
+    {"fracture_weibull_negative_seed", "/shells/0/material/fracture",
+     R"({"failure_stress": 1e4, "fracture_energy": 100, "weibull": {"modulus": 10, "seed": -1}})",
+     "/shells/0/material/fracture/weibull/seed", "in [0, 2147483647]"},
     {"fracture_region_two_points", "/shells/0/material/fracture",
      R"({"failure_stress": 1e4, "fracture_energy": 100,
          "regions": [{"polygon": [[0, 0], [1, 0]], "failure_stress": 1e5}]})",
@@ -183,8 +189,8 @@ const BadCase kBadCases[] = {
 INSTANTIATE_TEST_SUITE_P(AllRules, SceneValidation, ::testing::ValuesIn(kBadCases),
                          [](const auto& info) { return std::string(info.param.label); });
 
-TEST(SceneParse, TipWeightsDefaultToVisibilityAndAcceptDiffraction) {
-  EXPECT_FALSE(build_model(valid_scene().dump(), "ok.json").cracks.tip_diffraction);
+TEST(SceneParse, TipWeightsDefaultToDiffractionAndAcceptVisibility) {
+  EXPECT_TRUE(build_model(valid_scene().dump(), "ok.json").cracks.tip_diffraction);
   Json j = valid_scene();
   j["cracks"] = Json::parse(R"({"tip_weights": "visibility"})");
   EXPECT_FALSE(build_model(j.dump(), "ok.json").cracks.tip_diffraction);

@@ -3,6 +3,11 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "core/weibull.hpp"
 #include "render_mesh/cracked_tessellation.hpp"
 #include "scene/build.hpp"
 #include "scene/json_io.hpp"
@@ -56,6 +61,51 @@ TEST(Fracture, ModeOneTearIsStraightConsistentAndKeepsItsArea) {
 }
 
 // A 0.4 x 0.2 m sheet cut through at u = 0.5; the halves get opposite x velocities.
+// fracture.weibull: every in-plane point's sigma_f is its material or region value times its own seeded
+// Weibull factor; H (the softening slope) stays the point's. Checked against the inverse CDF written out
+// here, against the Weibull CDF itself (Kolmogorov-Smirnov), and across seeds.
+TEST(Fracture, WeibullStrengthGivesEachPointItsOwnSeededFailureStress) {
+  auto build = [](int seed) {
+    std::string s = tear_scene("");
+    const std::string regions_end = R"("failure_stress": 1e7}]}},)";
+    const size_t at = s.find(regions_end);
+    EXPECT_NE(at, std::string::npos);
+    s.replace(at, regions_end.size(),
+              R"("failure_stress": 1e7}], "weibull": {"modulus": 8, "seed": )" + std::to_string(seed) + "}}},");
+    return std::make_unique<Simulation>(scene::build_model(s, "weibull.json"));
+  };
+  const Simulation plain(scene::build_model(tear_scene(""), "tear.json"));
+  const std::unique_ptr<Simulation> a = build(7), b = build(8);
+  const shell::ShellPatch& p0 = plain.world().shell(0);
+  const shell::ShellPatch& pa = a->world().shell(0);
+  const shell::ShellPatch& pb = b->world().shell(0);
+  const size_t n = p0.num_inplane_points();
+  ASSERT_EQ(pa.num_inplane_points(), n);
+  const double m = 8.0;
+  std::vector<double> bulk;  // factors of the points outside the reinforced bands
+  size_t differ = 0;
+  for (size_t q = 0; q < n; ++q) {
+    // Inverse CDF, P(s <= x) = 1 - exp(-(x / s0)^m), from the point's uniform draw.
+    const double u = core::hashed_uniform(7, q);
+    const double expected = p0.failure_stress(q) * std::pow(-std::log(1.0 - u), 1.0 / m);
+    EXPECT_NEAR(pa.failure_stress(q), expected, 1e-12 * expected) << "point " << q;
+    EXPECT_EQ(pa.brittleness(q), p0.brittleness(q)) << "point " << q;  // H is kept
+    if (p0.failure_stress(q) == 2e4) bulk.push_back(pa.failure_stress(q) / 2e4);
+    differ += pb.failure_stress(q) != pa.failure_stress(q);
+  }
+  EXPECT_EQ(differ, n);  // another seed, another field
+  // Kolmogorov-Smirnov distance of the bulk factors from the unit Weibull CDF; 1.63 / sqrt(N) is the 1%
+  // critical value.
+  std::sort(bulk.begin(), bulk.end());
+  double d = 0;
+  for (size_t i = 0; i < bulk.size(); ++i) {
+    const double cdf = 1.0 - std::exp(-std::pow(bulk[i], m));
+    d = std::max({d, cdf - static_cast<double>(i) / bulk.size(), static_cast<double>(i + 1) / bulk.size() - cdf});
+  }
+  ASSERT_GT(bulk.size(), 500u);
+  EXPECT_LT(d, 1.63 / std::sqrt(static_cast<double>(bulk.size())));
+}
+
 std::string cut_sheet_scene(bool phantom_nodes) {
   return std::string(R"({"name": "cut", "gravity": [0, 0, 0],
     "shells": [{"name": "sheet", "patch": {"type": "flat", "size": [0.4, 0.2], "cells": [16, 8]},
