@@ -439,6 +439,23 @@ TEST(SeamVerify, DISABLED_ProjectedSeamVelocityDrapesLikeOnePatch) {
   EXPECT_GT(leader, 0.04);  // the leader update does not give a one-patch drape
 }
 
+TEST(SeamVerify, ProjectedSeamStressMatchesOnePatchAtRest) {
+  // The conforming split with the projected update, which comes to rest: its seam stress ratio (largest
+  // stress in the two cell rows next to the seam over the patch's median) against the one-patch cloth's
+  // at the same line (one_patch_seam_ratio), both at rest. The seam may add at most 20% to what the ball
+  // alone does there.
+  const DrapeRun projected = run_drape(false, R"("continuity": "C1", "seam_velocity": "projected")", 20, kDrapeEnd, 5);
+  const DrapeRun one = run_drape(true, "", 25, kDrapeEnd, 5, 10);
+  std::printf("conforming drape 10/10 x 20, projected: seam stress ratio at rest %.4g (%.3g s), one patch %.4g "
+              "(%.3g s): %.4g of it\n",
+              projected.final_ratio, projected.rest_time, one.final_ratio, one.rest_time,
+              projected.final_ratio / one.final_ratio);
+  EXPECT_GE(projected.rest_time, 0.0);
+  EXPECT_GE(one.rest_time, 0.0);
+  ASSERT_GT(one.final_ratio, 0.0);
+  EXPECT_LE(projected.final_ratio, 1.2 * one.final_ratio);  // measured 4.08 against 4.55: 0.90
+}
+
 TEST(SeamVerify, UncoupledDrapeCreases) {
   const DrapeRun none = run_drape(false, R"("continuity": "none")");
   std::printf("uncoupled drape 20/25: max gap %.3g m, max angle %.3g deg\n", none.gap, none.angle);
