@@ -190,9 +190,9 @@ TEST(SeamVerify, ExactClosureRefusesPinnedLeaderRows) {
 // the comparisons below are made at rest, not at a fixed moment of a motion.
 constexpr double kDrapeDamping = 2.0;  // [1/s]
 // At rest (time.until_rest, measured by AdvectedRest below): kinetic energy below 5e-6 J (the 0.12 kg
-// the control points carry, at an rms speed of about 9 mm/s) and no control point faster than 3 cm/s, both for 0.1 s. The
-// speed allows for a jitter of about 2 cm/s that some control points on the ball keep in a settled
-// one-patch drape, whose corners then move by about 1 mm per 0.5 s.
+// the control points carry, at an rms speed of about 9 mm/s) and no control point faster than 3 cm/s,
+// both for 0.1 s. The speed allows for a jitter of about 2 cm/s that some control points on the ball
+// keep in a settled one-patch drape, whose corners then move by about 1 mm per 0.5 s.
 constexpr const char* kDrapeRest = R"({"kinetic_energy": 5e-6, "speed": 0.03, "duration": 0.1})";
 // The latest end of a drape that should come to rest.
 constexpr double kDrapeEnd = 5.0;
@@ -350,7 +350,7 @@ TEST(SeamVerify, NonNestedLeastSquaresDrapeSeamGapAndKinkAreBounded) {
   // The thesis's least-squares seam (exact closure is the default since issue 12) on non-nested knots:
   // Eq. 4.29 and 4.34 leave a gap and a kink that the issue's limits (1e-9 x model size, 0.5 degrees)
   // do not allow. Maxima over every frame, bounded here so that a change of the coupling that moves them
-  // is seen (measured under PIC 6.0e-4 m and 2.84 degrees, during the impact).
+  // is seen (measured 6.6e-4 m, 4.6e-4 x model size, and 3.18 degrees; under PIC 6.0e-4 m and 2.84).
   const DrapeRun c1 = run_drape(false, R"("continuity": "C1", "closure": "least_squares")");
   std::printf("non-nested C1 drape 20/25: max gap %.3g m (%.3g x model size), max angle %.3g deg\n", c1.gap,
               c1.gap / c1.model_size, c1.angle);
@@ -376,10 +376,10 @@ double rest_corner_deviation(const char* what, const std::string& interface_fiel
 
 TEST(SeamVerify, DISABLED_NonNestedLeastSquaresDrapeRestsLikeOnePatch) {
   // Known failure: measured 20.1% (corners 0.201 m from the one-patch drape's; the coupled drape never
-  // rests: still creeping at 5 s, 21.8% at 8 s), criterion 2% of the 1 m cloth at rest (the issue's). Under PIC at a fixed 1.5 s it
-  // was 6.8%: the thesis's leader update treats the halves differently (see
-  // DISABLED_ProjectedSeamVelocityDrapesLikeOnePatch), and these halves (5 x 20, 6 x 25 cells) have no
-  // one-patch equal.
+  // rests: still creeping at 5 s, 21.8% at 8 s), criterion 2% of the 1 m cloth at rest (the issue's).
+  // Under PIC at a fixed 1.5 s it was 6.8%: the thesis's leader update treats the halves differently
+  // (see DISABLED_ProjectedSeamVelocityDrapesLikeOnePatch), and these halves (5 x 20, 6 x 25 cells) have
+  // no one-patch equal.
   EXPECT_LE(rest_corner_deviation("non-nested least-squares C1 drape 20/25",
                                   R"("continuity": "C1", "closure": "least_squares")"),
             0.02 * 1.0);
@@ -408,7 +408,7 @@ TEST(SeamVerify, DISABLED_ExactClosureDrapeRestsLikeOnePatch) {
             0.02 * 1.0);
 }
 
-// The conforming split of the two tests below: 5 + 5 cells across, 20 along both halves, against one
+// The conforming split of the three tests below: 5 + 5 cells across, 20 along both halves, against one
 // patch of 10 x 20 cells. The same knots, so the C1 coupling is exact and any difference is the coupled
 // dynamics. The thesis's update (leader rows from the grid, follower rows' grid velocities dropped)
 // treats the two halves differently; projecting both halves' rows onto the coupling keeps them mirror

@@ -160,8 +160,9 @@ TEST_P(SeamExactUnderTransfer, APatchThatFollowsOnOneSeamAndLeadsOnAnotherCloses
   // "Limitations"; not yet fixed).
   // Not round-off: the corner point the other seam sets is held in this seam's projection by a weight
   // of 1e8 times its mass (sim/seam_coupling.cpp), so the shared spline passes through it only to about
-  // 1e-8 of its motion; measured 1.06e-10 m (pic), 1.04e-10 m (apic), 5.65e-10 m (adaptive). Asserted against the issue's limit, 1e-9 x model size
-  // (before issue 12 the scene was refused; least squares gives 1e-4 m on the 10/13 seam).
+  // 1e-8 of its motion; measured 1.06e-10 m (pic), 1.04e-10 m (apic), 5.65e-10 m (adaptive). Asserted
+  // against the issue's limit, 1e-9 x model size (before issue 12 the scene was refused; least squares
+  // gives 1e-4 m on the 10/13 seam).
   EXPECT_LE(l_worst_gap(GetParam(), 0.35), kLGapLimit);
 }
 
