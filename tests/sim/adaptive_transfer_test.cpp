@@ -207,6 +207,7 @@ TEST(AdaptiveTransfer, ShareKeysAreCheckedAndReachTheModel) {
   EXPECT_EQ(m.grid.flip, 0.995);
   EXPECT_EQ(m.grid.flip_active, 0.5);
   EXPECT_EQ(m.grid.cracking, scene::model::GridSettings::CrackingShells::Adaptive);
+  // PIC itself: no adaptive shares and no FLIP part, and the adaptive-only cracking_shells is refused.
   const scene::Model pic = scene::build_model(half_cut_sheet(R"("grid": {"transfer": "pic"},)"), "c.json");
   EXPECT_FALSE(pic.grid.adaptive);
   EXPECT_EQ(pic.grid.flip, 0.0);

@@ -123,41 +123,58 @@ std::string l_scene(const std::string& transfer) {
                    {"a": {"shell": "corner", "side": "v1"}, "b": {"shell": "top", "side": "v0"}}]})";
 }
 
-class SeamExactUnderTransfer : public ::testing::TestWithParam<const char*> {};
-
-TEST_P(SeamExactUnderTransfer, APatchThatFollowsOnOneSeamAndLeadsOnAnotherClosesExactly) {
-  // Refused before issue 12 ("also set by the seam at ..."). Now the seam that sets the corner's rows is
-  // coupled first and the leader points it sets are held in the other seam's projection. (The corner's
-  // pins stay off its seam rows: a pin there would make the default fall back to least squares.)
-  // Under "apic" and "adaptive" the rows the seams set used to keep the affine velocity g2p gave them
-  // (sim/seam_coupling.cpp, drop_affine): this run then diverged ("stretched to more than 1000 times its
-  // area") at 0.30 s under "adaptive" (at 0.36 s under "apic" with 100 frames/s); now at 0.40 s and
-  // 0.52 s. Run to 0.35 s. Past that the scene fails under every transfer (PIC at 0.66 s): the 13-cell
-  // top shares no interior knot with the corner, so exact closure extrapolates the corner's whole top edge
-  // from the two points the other seam sets at its end (docs/coupling.md, "Limitations"; not yet fixed).
-  const scene::Model scene = scene::build_model(l_scene(GetParam()), "l.json");
-  ASSERT_EQ(scene.interfaces.size(), 2u);
+// Runs the L under `transfer` to `end` seconds and returns its largest seam gap over frames of 0.05 s.
+double l_worst_gap(const char* transfer, double end) {
+  const scene::Model scene = scene::build_model(l_scene(transfer), "l.json");
+  EXPECT_EQ(scene.interfaces.size(), 2u);
   EXPECT_EQ(scene.interfaces[0].coupling.follower_patch, 0);  // the corner follows the right patch
   EXPECT_EQ(scene.interfaces[1].coupling.leader_patch, 0);    // and leads the top
   EXPECT_TRUE(scene.interfaces[0].coupling.exact);
   EXPECT_TRUE(scene.interfaces[1].coupling.exact);
   Simulation sim(scene);
   double worst = 0;
-  for (double t = 0.05; t <= 0.35 + 1e-9; t += 0.05) {
+  for (double t = 0.05; t <= end + 1e-9; t += 0.05) {
     sim.advance_to(t);
     worst = std::max(worst, worst_gap(scene, sim));
   }
-  const double size = output::model_size(scene);
-  std::printf("L of three patches, corner follows and leads: largest seam gap %.3g m (model size %.3g m)\n", worst,
-              size);
+  std::printf("L of three patches under %s to %.2f s, corner follows and leads: largest seam gap %.3g m (model "
+              "size %.3g m)\n",
+              transfer, end, worst, output::model_size(scene));
+  return worst;
+}
+
+// The issue's limit on a coupled seam's gap: 1e-9 x model size (the L spans 1 m x 1 m: sqrt(2) m).
+constexpr double kLGapLimit = 1e-9 * 1.4142135623730951;
+
+// "pic" and "apic" test those transfers themselves (the thesis's, and the one the seam rows' affine
+// velocity matters to); "adaptive" is the default.
+class SeamExactUnderTransfer : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(SeamExactUnderTransfer, APatchThatFollowsOnOneSeamAndLeadsOnAnotherClosesExactly) {
+  // Refused before issue 12 ("also set by the seam at ..."). Now the seam that sets the corner's rows is
+  // coupled first and the leader points it sets are held in the other seam's projection. (The corner's
+  // pins stay off its seam rows: a pin there would make the default fall back to least squares.)
+  // Run to 0.35 s: under the default the L diverges just before 0.40 s (DISABLED_ test below); PIC lasts
+  // to 0.66 s. The 13-cell top shares no interior knot with the corner, so exact closure extrapolates the
+  // corner's whole top edge from the two points the other seam sets at its end (docs/coupling.md,
+  // "Limitations"; not yet fixed).
   // Not round-off: the corner point the other seam sets is held in this seam's projection by a weight
   // of 1e8 times its mass (sim/seam_coupling.cpp), so the shared spline passes through it only to about
-  // 1e-8 of its motion; measured 9.9e-11 m. Asserted against the issue's limit, 1e-9 x model size
-  // (before issue 12 the scene was refused; least squares gives 1e-4 m on the 10/13 seam).
-  EXPECT_LE(worst, 1e-9 * size);
+  // 1e-8 of its motion; measured 1.06e-10 m (pic), 1.04e-10 m (apic), 5.65e-10 m (adaptive). Asserted
+  // against the issue's limit, 1e-9 x model size (before issue 12 the scene was refused; least squares
+  // gives 1e-4 m on the 10/13 seam).
+  EXPECT_LE(l_worst_gap(GetParam(), 0.35), kLGapLimit);
 }
 
 INSTANTIATE_TEST_SUITE_P(Transfers, SeamExactUnderTransfer, ::testing::Values("pic", "apic", "adaptive"));
+
+TEST(SeamExact, DISABLED_LOfThreePatchesLastsTo040sUnderTheDefaultTransfer) {
+  // Known failure: measured "shell element stretched to more than 1000 times its area" in the corner
+  // (cell 80) at t = 0.398 s under the default ("adaptive"); criterion: the run reaches 0.40 s with the
+  // seam gap within 1e-9 x model size at every frame. PIC and APIC reach 0.40 s (gaps 1.23e-10 m and
+  // 1.25e-10 m). The exact-closure defect above (docs/coupling.md, "Limitations").
+  EXPECT_LE(l_worst_gap("adaptive", 0.40), kLGapLimit);
+}
 
 }  // namespace
 }  // namespace shellfrac::sim

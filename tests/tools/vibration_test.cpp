@@ -51,6 +51,7 @@ TEST(Vibration, AffineFlipConservesLinearMomentumInFreeFlight) {
 }
 
 TEST(Vibration, FlipRatioWithoutAFlipTransferIsRefused) {
+  // PIC itself: a FLIP share means nothing to it, so the key is refused there.
   try {
     scene::build_model(R"({"grid": {"transfer": "pic", "flip_ratio": 0.5},
       "shells": [{"patch": {"type": "flat", "size": [1, 1], "cells": [2, 2]}, "thickness": 0.01,
