@@ -87,6 +87,7 @@ class Simulation {
   // not counted.
   size_t num_grid_nodes() const { return grid_.num_grid_nodes(); }
   double kinetic_energy() const { return world_.kinetic_energy(); }
+  double advected_kinetic_energy() const { return world_.advected_kinetic_energy(); }
   Eigen::Vector3d linear_momentum() const { return world_.linear_momentum(); }
   // Whether shell i, which can crack, has left the adaptive shares for PIC (or APIC) because damage or a
   // crack appeared on it (grid.cracking_shells "adaptive_then_pic", the default, or "adaptive_then_apic").
@@ -98,8 +99,10 @@ class Simulation {
   const Eigen::Vector3d& pin_set_reaction(size_t pin) const { return pins_.reaction(pin); }
   // The total force scene load i applied in the last step [N].
   const Eigen::Vector3d& applied_load(size_t load) const { return loads_.applied(load); }
-  // Largest control-point speed [m/s] (time.until_rest).
+  // Largest control-point speed [m/s], FLIP part included.
   double max_control_point_speed() const;
+  // Largest speed a control point moves with [m/s] (time.until_rest; World::advected_kinetic_energy).
+  double max_advected_control_point_speed() const { return world_.max_advected_control_point_speed(); }
   const std::vector<mpm::Collider>& colliders() const { return colliders_; }
 
   const CrackStats& crack_stats() const { return cracks_.stats(); }

@@ -166,6 +166,34 @@ double World::kinetic_energy() const {
   return e;
 }
 
+namespace {
+
+// The velocity control point k of a patch is advected with: v minus its FLIP part (none for PIC/APIC).
+Eigen::Vector3d advected_velocity(const shell::ShellPatch& p, const std::vector<Eigen::Vector3d>& flip, size_t k) {
+  return flip.empty() ? p.v[k] : Eigen::Vector3d(p.v[k] - flip[k]);
+}
+
+}  // namespace
+
+double World::advected_kinetic_energy() const {
+  double e = 0;
+  for (size_t i = 0; i < patches_.size(); ++i) {
+    const auto& p = patches_[i];
+    for (size_t k = 0; k < p.v.size(); ++k) e += 0.5 * p.mass[k] * advected_velocity(p, flip_part_[i], k).squaredNorm();
+  }
+  for (const auto& s : solids_)
+    for (size_t k = 0; k < s.size(); ++k) e += 0.5 * s.mass[k] * s.v[k].squaredNorm();
+  return e;
+}
+
+double World::max_advected_control_point_speed() const {
+  double vmax = 0;
+  for (size_t i = 0; i < patches_.size(); ++i)
+    for (size_t k = 0; k < patches_[i].v.size(); ++k)
+      vmax = std::max(vmax, advected_velocity(patches_[i], flip_part_[i], k).norm());
+  return vmax;
+}
+
 Eigen::Vector3d World::linear_momentum() const {
   Eigen::Vector3d m = Eigen::Vector3d::Zero();
   for (size_t i = 0; i < patches_.size(); ++i) {

@@ -62,6 +62,14 @@ class World {
   size_t num_shear_particles() const;
   size_t num_solid_particles() const;
   double kinetic_energy() const;
+  // Kinetic energy of the velocities that move the particles: control points by their velocity minus its
+  // FLIP part (flip_part), which the grid does not see and the point is not advected with, and solid
+  // particles. Shear particles are left out: they follow the control points (thesis Eq. 4.10), and
+  // their velocity only carries their mass to the grid. The rest test (time.until_rest) reads it: with
+  // the FLIP part and the shear particles a drape that has settled keeps 9e-5 J and 7-9 cm/s.
+  double advected_kinetic_energy() const;
+  // Largest speed of a control point by that velocity [m/s].
+  double max_advected_control_point_speed() const;
   // Momentum of the particles the grid moves (pinned control points are driven, not free).
   Eigen::Vector3d linear_momentum() const;
 

@@ -14,6 +14,7 @@
 #include "scene/json_io.hpp"
 #include "scene/scene_error.hpp"
 #include "output/seam_metrics.hpp"
+#include "output/verification.hpp"
 #include "sim/simulation.hpp"
 
 namespace shellfrac::output {
@@ -258,12 +259,11 @@ double one_patch_seam_ratio(const shell::ShellPatch& p, int right_across) {
   return ratio;
 }
 
-// time.until_rest's test (as output::VerificationRecorder::after_step makes it) on the velocity that
-// moves the control points. Under the default transfer a control point's velocity carries a FLIP part
-// that the grid does not see and the point does not move with (World::flip_part);
-// Simulation::kinetic_energy() and max_control_point_speed(), which the run driver reads, include it,
-// and by them no drape here ever rests (the settled one-patch drape: 7-9 cm/s and 9e-5 J with it, 2 cm/s
-// and 2.5e-6 J without). Here both use v minus the FLIP part, over the control points.
+// time.until_rest's test, written out here as an independent check of output::VerificationRecorder: the
+// kinetic energy and the largest control-point speed by the velocities the particles move with. Under
+// the default transfer a control point's velocity carries a FLIP part that the grid does not see and
+// the point does not move with (World::flip_part); counted in, no drape here ever rested (the settled
+// one-patch drape: 7-9 cm/s and 9e-5 J with it, 2 cm/s and 2.5e-6 J without).
 class AdvectedRest {
  public:
   explicit AdvectedRest(const scene::model::RestCriterion& c) : c_(c) {}
@@ -322,6 +322,25 @@ DrapeRun run_drape(bool one_patch, const std::string& interface_fields = "", int
     r.corners.push_back(surface(right).point(1.0, v));
   }
   return r;
+}
+
+// The library's rest test (time.until_rest, as `shellfrac run` and `verify` stop on it) and the one
+// written out above agree step for step on the settled one-patch drape under the default transfer:
+// both see it come to rest, at the same step.
+TEST(SeamVerify, UntilRestStopsASettledDrapeUnderTheDefaultTransfer) {
+  const scene::Model scene = scene::build_model(drape_scene(true, "", 25, kDrapeEnd, 6, 11), "drape.json");
+  Simulation sim(scene);
+  output::VerificationRecorder library(sim, ::testing::TempDir());
+  AdvectedRest independent(*scene.time.until_rest);
+  double library_time = -1, independent_time = -1;
+  sim.advance_to(kDrapeEnd, [&] {
+    if (library_time < 0 && library.after_step(sim)) library_time = sim.time();
+    if (independent_time < 0 && independent.after_step(sim)) independent_time = sim.time();
+    return library_time >= 0 && independent_time >= 0;
+  });
+  EXPECT_GT(library_time, 0.0);
+  EXPECT_EQ(library_time, independent_time);
+  EXPECT_LT(library_time, kDrapeEnd);
 }
 
 // Largest distance between the corners of two drapes [m].
