@@ -4,7 +4,9 @@
 // cells rendered at 400^2 peaked at 778 MiB (about 300 bytes per quadrature point); box solids of 1e6
 // to 8e6 particles at 650 to 675 bytes per particle; level sets of 2e6 to 2.3e7 narrow-band voxels at
 // 38 to 48 bytes per voxel (OpenVDB's distance and closest-triangle grids while the band is built);
-// renders of 512^2 to 2048^2 at 256 to 377 bytes per render vertex, and 118 bytes of OBJ per vertex.
+// renders of the default sheet at 1024^2, 2048^2 and 4096^2 peaked at 319 MiB, 1.15 GiB and 4.59 GiB
+// (270 to 291 bytes per render vertex) and wrote 164, 175 and 183 bytes of OBJ per vertex (2026-12-04;
+// the bytes grow with the digits of the indices).
 // The element counts follow the build: a flat or curved patch
 // is quadratic with cells + 2 control points per direction (cells + pieces + 1 around a cylinder or
 // cone, whose arc is made of rational pieces of at most 90 degrees), a control net gains (refine - 1)
@@ -45,9 +47,9 @@ constexpr double kBasisFunctionBytes = 14;         // per support function and p
 constexpr double kShearParticleBytes = 600;
 constexpr double kSolidParticleBytes = 700;        // measured 650 to 675 over the first step (box of 8e6: 5.1 GiB)
 constexpr double kGridBlockBytes = 64 * 160.0;     // a 4^3 block of nodes: mass, momentum, velocity, force, ...
-constexpr double kRenderVertexBytes = 500;         // tessellation, shadow vertices, faces and the exporter's text
+constexpr double kRenderVertexBytes = 320;         // tessellation, shadow vertices, faces and the exporter's text
 constexpr double kLevelSetVoxelBytes = 48;         // distance and closest-triangle grids with tree overhead
-constexpr double kDiskBytesPerRenderVertex = 120;  // OBJ text: v, vt, vn lines and a share of the faces
+constexpr double kDiskBytesPerRenderVertex = 200;  // OBJ text: v, vt, vn lines and a share of the faces
 // The sparse grid packs block coordinates in 21 bits (mpm/sparse_grid.cpp): |x| / (4 dx) < 2^20.
 constexpr double kGridReachCells = 4.0 * (1 << 20);
 
