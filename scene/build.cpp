@@ -80,11 +80,12 @@ Model build(const Scene& input) {
     m.grid.flip = scene.grid.flip_ratio.value_or(model::kDefaultIntactFlipRatio);
     m.grid.flip_active = scene.grid.flip_ratio_active.value_or(model::kDefaultActiveFlipRatio);
     using Cracking = model::GridSettings::CrackingShells;
-    const std::string cracking = scene.grid.cracking_shells.value_or("adaptive_then_pic");
+    const std::string cracking = scene.grid.cracking_shells.value_or("pic_while_damaged");
     m.grid.cracking = cracking == "pic"                  ? Cracking::Pic
                       : cracking == "adaptive"           ? Cracking::Adaptive
                       : cracking == "adaptive_then_apic" ? Cracking::AdaptiveThenApic
-                                                         : Cracking::AdaptiveThenPic;
+                      : cracking == "adaptive_then_pic"  ? Cracking::AdaptiveThenPic
+                                                         : Cracking::PicWhileDamaged;
     // With cracking_shells "pic" and every shell able to crack, the whole scene is PIC, exactly as
     // "transfer": "pic".
     bool any = false;

@@ -512,7 +512,8 @@ void describe(V& v, Grid& g) {
                ? "\"flip_ratio_active\" needs \"transfer\": \"adaptive\""
                : "";
   });
-  v.choice("cracking_shells", g.cracking_shells, {"adaptive_then_pic", "adaptive_then_apic", "adaptive", "pic"});
+  v.choice("cracking_shells", g.cracking_shells,
+           {"pic_while_damaged", "adaptive_then_pic", "adaptive_then_apic", "adaptive", "pic"});
   v.check("cracking_shells", [&] {
     return g.cracking_shells && g.transfer && *g.transfer != "adaptive"
                ? "\"cracking_shells\" needs \"transfer\": \"adaptive\""

@@ -212,13 +212,17 @@ struct GridSettings {
   double flip_active = 0.0;
   // Adaptive transfer only: how shells that can crack (Shell::can_crack) run (grid.cracking_shells;
   // docs/shell-model.md, "Transfer").
-  //  - AdaptiveThenPic (default): the adaptive transfer, like an intact shell, until damage or a crack
-  //    first appears on the shell; from then on PIC for all of its particles.
+  //  - PicWhileDamaged (default): the adaptive transfer, like an intact shell (APIC beside cracks and
+  //    cuts), except while some point of the shell or of a shell a coupled seam ties to it is damaged
+  //    (c > 0): then PIC for all of their particles. With the healing damage rule the damage of a torn
+  //    shell goes back to 0 once its pieces have separated and relaxed, and the pieces keep their swing.
+  //  - AdaptiveThenPic: the adaptive transfer until damage or a crack first appears on the shell; from
+  //    then on PIC for all of its particles.
   //  - AdaptiveThenApic: the same, but APIC (share 0, affine velocity kept) once damaged.
   //  - Adaptive: the adaptive transfer throughout.
   //  - Pic: PIC throughout, with half of each cell's mass on its shear particles (the rule before).
-  enum class CrackingShells { AdaptiveThenPic, AdaptiveThenApic, Adaptive, Pic };
-  CrackingShells cracking = CrackingShells::AdaptiveThenPic;
+  enum class CrackingShells { PicWhileDamaged, AdaptiveThenPic, AdaptiveThenApic, Adaptive, Pic };
+  CrackingShells cracking = CrackingShells::PicWhileDamaged;
   // Adaptive transfer only: whether shell s runs it (false: PIC for that shell's particles).
   bool adaptive_shell(const Shell& s) const {
     return adaptive && (cracking != CrackingShells::Pic || !s.can_crack());
@@ -227,6 +231,10 @@ struct GridSettings {
   bool turns_once_damaged(const Shell& s) const {
     return adaptive && s.can_crack() &&
            (cracking == CrackingShells::AdaptiveThenPic || cracking == CrackingShells::AdaptiveThenApic);
+  }
+  // Adaptive transfer only: whether shell s runs PIC exactly while it (or its seam group) is damaged.
+  bool pic_while_damaged(const Shell& s) const {
+    return adaptive && s.can_crack() && cracking == CrackingShells::PicWhileDamaged;
   }
 };
 

@@ -20,10 +20,12 @@ void TransferShares::attach(World& world, const scene::Model& model) {
   }
   pic_shell_.assign(world.num_shells(), 0);
   turns_.assign(world.num_shells(), 0);
+  while_damaged_.assign(world.num_shells(), 0);
   turned_.assign(world.num_shells(), 0);
   for (size_t i = 0; i < world.num_shells() && i < model.shells.size(); ++i) {
     pic_shell_[i] = !model.grid.adaptive_shell(model.shells[i]);
     turns_[i] = model.grid.turns_once_damaged(model.shells[i]);
+    while_damaged_[i] = model.grid.pic_while_damaged(model.shells[i]);
   }
   turn_to_pic_ = model.grid.cracking != scene::model::GridSettings::CrackingShells::AdaptiveThenApic;
   // Shells joined by coupled seams, directly or through others, share one group (the smallest index).
@@ -70,18 +72,45 @@ bool damaged_or_cracked(const shell::ShellPatch& patch) {
   return std::find(near.begin(), near.end(), 1) != near.end();
 }
 
+bool damaged(const shell::ShellPatch& patch) {
+  const std::vector<double>& damage = patch.damage_values();
+  return std::any_of(damage.begin(), damage.end(), [](double c) { return c > 0; });
+}
+
 }  // namespace
 
+void TransferShares::set_pic(World& world, size_t shell, bool pic) {
+  turned_[shell] = pic;
+  mpm::ParticleSet& control = world.particle_sets()[world.control_set(shell)];
+  std::vector<Eigen::Matrix3d>& affine = world.affine(shell);
+  if (pic) {
+    control.affine = nullptr;  // p2g reads no affine velocity and g2p writes none
+  } else if (!affine.empty()) {
+    // Back to APIC/affine-FLIP: the affine velocities left from before the PIC spell are stale.
+    std::fill(affine.begin(), affine.end(), Eigen::Matrix3d::Zero());
+    control.affine = affine.data();
+  }
+}
+
 void TransferShares::turn_damaged_shells(World& world) {
+  // pic_while_damaged: a seam group is PIC exactly while some member is damaged (a seam between a PIC and
+  // an adaptive patch would set velocities that one side's FLIP part does not know).
+  group_damaged_.assign(world.num_shells(), 0);
+  for (size_t j = 0; j < world.num_shells(); ++j)
+    if (while_damaged_[j] && damaged(world.shell(j))) group_damaged_[seam_group_[j]] = 1;
+  for (size_t j = 0; j < world.num_shells(); ++j)
+    if (while_damaged_[j] && turned_[j] != group_damaged_[seam_group_[j]]) set_pic(world, j, group_damaged_[seam_group_[j]]);
   for (size_t i = 0; i < world.num_shells(); ++i) {
     if (!turns_[i] || turned_[i] || !damaged_or_cracked(world.shell(i))) continue;
     // The shell and every shell a coupled seam ties to it turn together: a seam between a PIC and an
     // adaptive patch would set velocities that one side's FLIP part does not know.
     for (size_t j = 0; j < world.num_shells(); ++j) {
       if (seam_group_[j] != seam_group_[i] || turned_[j] || !turns_[j]) continue;
-      turned_[j] = 1;
-      // PIC from now on: p2g reads no affine velocity and g2p writes none.
-      if (turn_to_pic_) world.particle_sets()[world.control_set(j)].affine = nullptr;
+      if (turn_to_pic_) {
+        set_pic(world, j, true);
+      } else {
+        turned_[j] = 1;  // APIC: the affine velocity stays
+      }
     }
   }
 }

@@ -13,12 +13,14 @@
 //    Eq. 4.10), their velocity only carries their mass to the grid, and a FLIP share would let it drift away
 //    from the motion it stands for (a clamped plate's support reaction was then 1.3% off its weight).
 //  - Solid particles (Type I) take `active`: their Neo-Hookean bulk has no thin-shell bending to keep.
-//  - A shell that can crack (fracture material or cuts) runs the same shares as an intact one until damage
-//    or a crack first appears on it. From that step on it runs PIC (share 0, its affine velocity dropped),
-//    or APIC with grid.cracking_shells "adaptive_then_apic". Kept on a torn shell, the FLIP share of its
-//    intact parts, and even APIC's affine velocity, let opened crack tips and fully damaged flaps tear the
-//    render surface apart, which PIC's averaging does not (docs/shell-model.md, "Transfer";
-//    cracking_shells "adaptive" keeps the adaptive shares anyway, "pic" runs such shells as PIC throughout).
+//  - A shell that can crack (fracture material or cuts) runs the same shares as an intact one, APIC beside
+//    its cracks and cuts included, except while some point of it, or of a shell a coupled seam ties to it,
+//    is damaged (c > 0; grid.cracking_shells "pic_while_damaged", the default): then PIC (share 0, its
+//    affine velocity dropped). While material is tearing, the FLIP share and even APIC's affine velocity
+//    let fully damaged flaps and opening tips draw the render surface out, which PIC's averaging does
+//    not; once the damage has healed the pieces move as sheets again (docs/shell-model.md, "Transfer").
+//    "adaptive_then_pic" / "adaptive_then_apic" turn a shell for good at its first damage or crack,
+//    "adaptive" keeps the adaptive shares anyway, "pic" runs such shells as PIC throughout.
 // The shares differ between particles, so the grid's g2p restores exact linear momentum (mpm/sparse_grid.cpp).
 #include <vector>
 
@@ -33,21 +35,26 @@ class TransferShares {
   // Rewrites every share from the current damage, plastic strain and crack state.
   // A shell that turns to PIC loses its affine velocity here, hence the writable world.
   void update(World& world, double intact, double active);
-  // Whether shell i has left the adaptive shares because damage or a crack appeared on it
-  // (GridSettings::turns_once_damaged).
+  // Whether shell i runs PIC (or APIC) instead of the adaptive shares at this step: for good since damage
+  // or a crack appeared on it (GridSettings::turns_once_damaged), or while it is damaged
+  // (GridSettings::pic_while_damaged).
   bool turned(size_t shell) const { return shell < turned_.size() && turned_[shell]; }
 
  private:
-  // Turns every shell that may leave the adaptive shares, and is damaged or cracked, with its seam group.
+  // Turns every shell that may leave the adaptive shares, and is damaged or cracked, with its seam group;
+  // turns pic_while_damaged shells to PIC and back as their seam group's damage comes and goes.
   void turn_damaged_shells(World& world);
+  void set_pic(World& world, size_t shell, bool pic);
 
   std::vector<std::vector<double>> control_, shear_, solid_;
   std::vector<unsigned char> pic_shell_;  // per shell: can crack, runs PIC (GridSettings::adaptive_shell)
   std::vector<unsigned char> turns_;      // per shell: leaves the adaptive shares once damaged
+  std::vector<unsigned char> while_damaged_;  // per shell: runs PIC while its seam group is damaged
   bool turn_to_pic_ = true;               // ... for PIC (else APIC)
-  std::vector<unsigned char> turned_;     // per shell: has turned (stays so: healed damage does not undo it)
+  std::vector<unsigned char> turned_;     // per shell: runs PIC/APIC now (turns_: for good)
   std::vector<size_t> seam_group_;        // per shell: the shells tied to it by coupled seams share a value
   std::vector<std::vector<unsigned char>> seam_held_;  // per shell and control point: set by a seam
+  std::vector<unsigned char> group_damaged_;  // scratch, per seam group (its smallest shell index)
   std::vector<unsigned char> cell_active_;  // scratch, per cell of the shell being updated
 };
 

@@ -3,6 +3,8 @@
 // shares differ.
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -79,14 +81,44 @@ double shear_mass_share(const shell::ShellPatch& p) {
   return shear / (shear + total);
 }
 
-// The default transfer is adaptive, and a shell that can crack runs it like an intact one (0.2 of the cell
-// mass on its shear particles, an affine velocity and a FLIP part) until a crack appears on it; a cut is
-// one from the start, so at the first step the cut shell turns to PIC (every share 0, no affine velocity)
-// while the intact shell beside it keeps share 1. With cracking_shells "adaptive_then_apic" it keeps its
-// affine velocity (APIC).
-TEST(AdaptiveTransfer, ByDefaultACutShellTurnsPicBesideAnIntactOne) {
-  for (const char* grid : {"", R"("grid": {"cracking_shells": "adaptive_then_apic"},)"}) {
-    const bool apic = *grid != 0;
+// The default transfer is adaptive, and by default (cracking_shells "pic_while_damaged") a shell that can
+// crack but is not damaged runs it like an intact one (0.2 of the cell mass on its shear particles, an
+// affine velocity and a FLIP part), APIC beside its cut: the cut shell's control points far from the cut
+// keep share 1, those whose support the cut crosses take 0, and it is not turned.
+TEST(AdaptiveTransfer, ByDefaultAnUndamagedCutShellKeepsTheAdaptiveShares) {
+  const scene::Model model = intact_and_cut("");
+  EXPECT_TRUE(model.grid.pic_while_damaged(model.shells[1]));
+  EXPECT_FALSE(model.grid.pic_while_damaged(model.shells[0]));  // cannot crack
+  EXPECT_FALSE(model.grid.turns_once_damaged(model.shells[1]));
+  Simulation sim(model);
+  for (int s = 0; s < 5; ++s) sim.step(0.5 * sim.stable_dt());
+  const World& w = sim.world();
+  const mpm::ParticleSet& cut = w.particle_sets()[w.control_set(1)];
+  const shell::ShellPatch& p = w.shell(1);
+  EXPECT_FALSE(sim.transfer_turned(1));
+  EXPECT_NE(cut.affine, nullptr);
+  size_t far = 0, beside = 0;
+  for (size_t k = 0; k < cut.count; ++k) {
+    const double u = p.control_parameter(k).x();
+    if (u < 0.2 || u > 0.8) far += cut.flip_share[k] == 1.0;  // more than two cells from the cut at u = 0.5
+    if (p.control_near_crack()[k]) beside += cut.flip_share[k] == 0.0;
+  }
+  EXPECT_GT(far, 0u);
+  EXPECT_GT(beside, 0u);
+  size_t near = 0;
+  for (size_t k = 0; k < cut.count; ++k) near += p.control_near_crack()[k];
+  EXPECT_EQ(beside, near);
+  EXPECT_NEAR(shear_mass_share(w.shell(1)), 0.2, 1e-12);
+}
+
+// cracking_shells "adaptive_then_pic" / "adaptive_then_apic": a shell that can crack runs the adaptive
+// shares until a crack appears on it; a cut is one from the start, so at the first step the cut shell
+// turns for good to PIC (every share 0, no affine velocity), or APIC (its affine velocity kept), while the
+// intact shell beside it keeps share 1.
+TEST(AdaptiveTransfer, AdaptiveThenPicTurnsACutShellBesideAnIntactOne) {
+  for (const char* grid : {R"("grid": {"cracking_shells": "adaptive_then_pic"},)",
+                           R"("grid": {"cracking_shells": "adaptive_then_apic"},)"}) {
+    const bool apic = std::string(grid).find("apic") != std::string::npos;
     const scene::Model model = intact_and_cut(grid);
     EXPECT_TRUE(model.grid.adaptive);
     EXPECT_TRUE(model.grid.adaptive_shell(model.shells[0]));

@@ -8,6 +8,8 @@
 // exploded in free fall before it reached its collider).
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <cmath>
 #include <string>
 
@@ -69,13 +71,18 @@ TEST(BasisStepBound, StarOfCutsStaysRigidInFreeFlightAtTheBasisAwareStep) {
 }
 
 TEST(BasisStepBound, StarOfCutsDivergesAtTheUncutBound) {
-  // The negative control: the same sheet stepped at cfl 0.5 of the NURBS bound (the old rule).
+  // The negative control: the same sheet stepped at cfl 0.5 of the NURBS bound (the old rule). It grows
+  // without bound (the run stops at 1 m/s). Under the default the cut sheet, never damaged, runs the
+  // adaptive shares, where the growth takes longer to show than under PIC: 4e-4 m/s after 300 steps,
+  // past 1 m/s within 2000.
   Simulation probe(scene::build_model(star_scene(24, 5), "star.json"));
   const double dt = 0.5 * probe.elastic_wave_bound();
   Simulation sim(scene::build_model(
       star_scene(24, 5, R"("time": {"end": 1, "dt": )" + std::to_string(dt) + R"(, "enforce_stability_bound": false},)"),
       "star.json"));
-  EXPECT_GT(drift_after(sim, 300), 1e-3);
+  const double drift = drift_after(sim, 2000);
+  std::printf("star of cuts at the uncut bound: drift %.3g m/s\n", drift);
+  EXPECT_GT(drift, 1e-3);
 }
 
 }  // namespace

@@ -38,7 +38,17 @@ std::string tear_scene(const std::string& material_extra, const std::string& sce
 
 TEST(Fracture, ModeOneTearIsStraightConsistentAndKeepsItsArea) {
   Simulation sim(scene::build_model(tear_scene(""), "tear.json"));
-  sim.advance_to(1.2);
+  // By default the sheet runs PIC exactly while some point is damaged (cracking_shells
+  // "pic_while_damaged"): during the tear, and no longer once the healing damage is gone.
+  bool pic_while_damaged = true, turned_at_some_step = false;
+  sim.advance_to(1.2, [&] {
+    const bool damaged = sim.world().shell(0).max_damage() > 0;
+    turned_at_some_step = turned_at_some_step || sim.transfer_turned(0);
+    pic_while_damaged = pic_while_damaged && sim.transfer_turned(0) == damaged;
+    return false;
+  });
+  EXPECT_TRUE(turned_at_some_step);
+  EXPECT_TRUE(pic_while_damaged);
   const CrackStats& st = sim.crack_stats();
   EXPECT_GE(st.extractions, 5);  // extractions run only when the fully damaged set grew
   EXPECT_EQ(st.subset_violations, 0u);  // every extraction contains the previous crack exactly

@@ -211,18 +211,20 @@ struct BoardSwing {
   bool turned = false;
 };
 
-BoardSwing hinged_board(const std::string& material_extra, const std::string& grid, double end, double sample) {
+BoardSwing hinged_board(const std::string& material_extra, const std::string& grid, double end, double sample,
+                        const std::string& shell_extra = "", double probe_u = 1.0) {
   sim::Simulation sim(scene::build_model(R"({"name": "board", "gravity": [0, -9.81, 0], "time": {"cfl": 1.0},
     "grid": {)" + grid + R"(},
     "shells": [{"name": "board", "patch": {"type": "flat", "size": [0.5, 0.25], "cells": [10, 5],
                 "origin": [0, 0, 0], "axis_u": [1, 0, 0], "axis_v": [0, 0, 1]},
-                "thickness": 0.01, "material": {"E": 2e9, "nu": 0.3, "density": 1000)" + material_extra + R"(}}],
+                "thickness": 0.01, "material": {"E": 2e9, "nu": 0.3, "density": 1000)" + material_extra + R"(})" +
+                                         shell_extra + R"(}],
     "pins": [{"shell": "board", "edges": ["u0"]}]})",
                                          "board.json"));
   BoardSwing r;
   for (double t = sample; t <= end + 1e-12; t += sample) {
     sim.advance_to(t);
-    r.tip.push_back(sim.world().shell(0).current_surface().point(1.0, 0.5));
+    r.tip.push_back(sim.world().shell(0).current_surface().point(probe_u, 0.5));
   }
   r.turned = sim.transfer_turned(0);
   return r;
@@ -269,6 +271,34 @@ TEST(Vibration, BreakableBoardSwingsLikeTheIntactOne) {
   std::printf("board under PIC: %zu turning points, first at %.4f of the start\n", a_pic.size(),
               a_pic.empty() ? 0.0 : a_pic[0] / start);
   EXPECT_TRUE(a_pic.empty() || a_pic[0] < 0.9 * start);
+}
+
+// Known failure (2026-12-04), kept with the criterion: measured 0 turning points in 2.5 s under the
+// default; the hinged part sinks at about 0.1 m/s, as under PIC. The cut shell is not turned, but its
+// control points beside the cut (the MLS supports reach u = 0.35 on this 10-cell board, half of the hinged
+// part) take the active share 0, APIC, which dissipates a thick board's swing as PIC does. With
+// grid.flip_ratio_active 0.99 the same board swings through (x = +0.20 -> -0.17 -> +0.13 m at the probe
+// in 1.2 s).
+TEST(Vibration, DISABLED_TornBoardSwingsOn) {
+  // Issue 27: torn pieces must keep their swing. The same board, cut through across its width at u = 0.6
+  // (a torn board whose outer 0.2 m has come off), swings on its hinge as a 0.3 m board. Probed at
+  // u = 0.4, whose NURBS support lies on the hinged side. By default (cracking_shells
+  // "pic_while_damaged") the cut shell, never damaged, runs the adaptive transfer: after three half swings
+  // it should reach at least 99% of its starting angle, the criterion for the breakable board above.
+  // Turned to PIC for good at its first crack ("adaptive_then_pic") it does not swing through.
+  const double end = 2.5, sample = 1e-3;
+  const std::string material = R"(, "fracture": {"failure_stress": 1e9, "fracture_energy": 1e9})";
+  const std::string cut = R"(, "cuts": [{"points": [[0.6, 0.0], [0.6, 1.0]]}])";
+  const BoardSwing torn = hinged_board(material, "", end, sample, cut, 0.4);
+  const BoardSwing turned = hinged_board(material, R"("cracking_shells": "adaptive_then_pic")", end, sample, cut, 0.4);
+  const std::vector<double> a = turning_angles(torn), a_turned = turning_angles(turned);
+  const double start = std::acos(0.0);
+  std::printf("torn board: %zu turning points, third at %.5f of the start; adaptive_then_pic: %zu, first at %.4f\n",
+              a.size(), a.size() >= 3 ? a[2] / start : 0.0, a_turned.size(), a_turned.empty() ? 0.0 : a_turned[0] / start);
+  EXPECT_FALSE(torn.turned);
+  ASSERT_GE(a.size(), 3u);
+  EXPECT_GE(a[2], 0.99 * start);
+  EXPECT_TRUE(a_turned.empty() || a_turned[0] < 0.9 * start);
 }
 
 }  // namespace
