@@ -83,10 +83,10 @@ size_t extend_tips(CrackGraph& graph, CrackIndex& index, const DamageField& fiel
     bool hit_edge = false;
     double reached = march(dir, max_length, hit_edge);
     // A damaged ligament between the tip and a near patch edge breaks across its narrowest section: when
-    // the straight way out to that edge is fully damaged and shorter than the march along the crack, the
-    // tip goes there instead (only edges ahead of the tip). Along the crack direction alone, a tip beside a corner ran diagonally through
-    // the ligament and landed past a control point, which was left tied to the wrong side (a pinned corner
-    // of cloth-two-balls then stretched 10x).
+    // the straight way out to an edge ahead of the tip is fully damaged and shorter than the march along
+    // the crack, the tip goes there instead. Along the crack direction alone, a tip beside a corner ran
+    // diagonally through the ligament and landed past a control point, which was left tied to the wrong
+    // side (a pinned corner of cloth-two-balls then stretched 10x).
     const Point outward[4] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
     const double gap[4] = {p.x() - domain.lo.x(), domain.hi.x() - p.x(), p.y() - domain.lo.y(), domain.hi.y() - p.y()};
     for (int side = 0; side < 4; ++side) {

@@ -6,7 +6,9 @@
 //  - a tip of this extraction's lines marches along its crack direction while the material ahead is
 //    fully damaged and the march crosses no crack, at most 1.5 local band half-widths plus a spacing;
 //  - an older tip marches only when a short, fully damaged ligament joins it to the patch edge (the
-//    band often reaches the edge after the tip was extracted), and then lands exactly on that edge.
+//    band often reaches the edge after the tip was extracted), and then lands exactly on that edge;
+//  - either kind near a patch edge ahead of it takes the straight way out, square to that edge, when
+//    that way is fully damaged and shorter than the march along the crack.
 #include "crack2d/crack_graph.hpp"
 #include "crack2d/crack_index.hpp"
 #include "crack2d/damage_field.hpp"
