@@ -61,20 +61,20 @@ void TransferShares::attach(World& world, const scene::Model& model) {
 
 namespace {
 
-// Whether any layer point of the patch is damaged or any point has left the plain NURBS basis (a crack or
-// cut runs through its support), or a control point takes part in an MLS basis beside a crack.
-bool damaged_or_cracked(const shell::ShellPatch& patch) {
+// Whether any layer point of the patch is damaged (c > 0).
+bool damaged(const shell::ShellPatch& patch) {
   const std::vector<double>& damage = patch.damage_values();
-  if (std::any_of(damage.begin(), damage.end(), [](double c) { return c > 0; })) return true;
+  return std::any_of(damage.begin(), damage.end(), [](double c) { return c > 0; });
+}
+
+// Whether the patch is damaged, or any point has left the plain NURBS basis (a crack or cut runs through
+// its support), or a control point takes part in an MLS basis beside a crack.
+bool damaged_or_cracked(const shell::ShellPatch& patch) {
+  if (damaged(patch)) return true;
   for (size_t q = 0; q < patch.num_inplane_points(); ++q)
     if (patch.point_level(q) != shell::BasisLevel::Nurbs) return true;
   const std::vector<unsigned char>& near = patch.control_near_crack();
   return std::find(near.begin(), near.end(), 1) != near.end();
-}
-
-bool damaged(const shell::ShellPatch& patch) {
-  const std::vector<double>& damage = patch.damage_values();
-  return std::any_of(damage.begin(), damage.end(), [](double c) { return c > 0; });
 }
 
 }  // namespace
