@@ -33,6 +33,14 @@ void BrittleSolid::add_particles(const std::vector<Vec3>& points, double particl
 void BrittleSolid::set_strength(const std::vector<StrengthRegion>& regions, const WeibullStrength& weibull, double grid_dx) {
   if (!(material.youngs_modulus > 0)) throw InputError("youngs_modulus must be > 0");
   if (!(material.fracture_energy > 0)) throw InputError("fracture_energy must be > 0");
+  if (material.model == DamageModel::PhaseField) {
+    // The phase field has no failure stress: the fracture energy and length scale set where it breaks.
+    if (!regions.empty() || weibull.enabled)
+      throw InputError("strength regions and Weibull scatter belong to Rankine damage, not the phase field");
+    failure_stress.assign(size(), 0.0);
+    brittleness.assign(size(), 0.0);
+    return;
+  }
   failure_stress = assign_failure_stress(rest, material.failure_stress, regions, weibull);
   const double l = material.characteristic_length > 0 ? material.characteristic_length : std::sqrt(3.0) * grid_dx;
   brittleness.resize(size());

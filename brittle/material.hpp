@@ -9,15 +9,23 @@ enum class DamageRule {
   Monotone,  // c^{n+1} = max(c_bar, c^n): the conventional phase-field rule
 };
 
+// Which damage model drives the solid's fracture.
+enum class DamageModel {
+  Rankine,     // local Rankine damage with linear softening (thesis sec. 2.3), on the Neo-Hookean solid
+  PhaseField,  // the non-local phase field of CD-MPM (seed 001, secs. 3.4-5) on its split Neo-Hookean solid
+};
+
 // An isotropic brittle solid: Neo-Hookean elasticity (thesis Eq. 2.3) with local Rankine damage by linear
-// strain softening (Eq. 2.28-2.31). SI units.
+// strain softening (Eq. 2.28-2.31), or the CD-MPM phase field (the solver's PhaseFieldOptions, with
+// fracture_energy as its G). SI units.
 struct BrittleMaterial {
   double youngs_modulus = 0;   // E [Pa]
   double poisson_ratio = 0;    // nu
   double density = 0;          // rho [kg/m^3]
   double failure_stress = 0;   // sigma_f [Pa]: the default; regions and Weibull sampling vary it per particle
   double fracture_energy = 0;  // G_f [J/m^2], mode-I fracture energy
-  DamageRule rule = DamageRule::Healing;
+  DamageRule rule = DamageRule::Healing;  // Rankine only; the phase field never heals
+  DamageModel model = DamageModel::Rankine;
   // l_ch [m]; 0 means the grid-cell diagonal sqrt(3) h the thesis uses (sec. 2.3.1, Table 3.3 caption).
   double characteristic_length = 0;
 

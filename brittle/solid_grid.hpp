@@ -98,6 +98,8 @@ class SolidGrid {
   GVec3 crack_normal(size_t index) const { return GVec3(normal_[index].n[0], normal_[index].n[1], normal_[index].n[2]); }
   const Eigen::Vector3i& lower() const { return lo_; }
   const Eigen::Vector3i& dims() const { return dims_; }
+  // Index distance between neighbouring nodes along an axis (1, dims.x, dims.x dims.y).
+  long stride(int axis) const { return axis == 0 ? 1 : axis == 1 ? stride_y_ : stride_z_; }
   // The node index of a particle's stencil corner (its base node), valid after rebuild.
   long base_index(const GVec3& x) const;
   // Index of the node nearest to x, or -1 outside the box.

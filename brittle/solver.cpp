@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "brittle/errors.hpp"
+#include "brittle/split_elasticity.hpp"
 
 namespace shellfrac::brittle {
 
@@ -18,9 +19,19 @@ namespace {
 class Timer {
  public:
   explicit Timer(double& sink) : sink_(sink), start_(std::chrono::steady_clock::now()) {}
-  ~Timer() { sink_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+  ~Timer() { pause(); }
+  // Stops counting (while a nested stage runs under its own timer) until resume().
+  void pause() {
+    if (running_) sink_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    running_ = false;
+  }
+  void resume() {
+    start_ = std::chrono::steady_clock::now();
+    running_ = true;
+  }
 
  private:
+  bool running_ = true;
   double& sink_;
   std::chrono::steady_clock::time_point start_;
 };
@@ -48,6 +59,21 @@ BrittleSolver::BrittleSolver(BrittleSolid& solid, SolverOptions options)
     throw InputError("solver: the requested instruction set for the grid transfers is not available on this processor");
   fixed_dt_ = options_.dt > 0;
   dt_ = fixed_dt_ ? options_.dt : stable_time_step();
+  if (solid_.material.model == DamageModel::PhaseField && options_.damage) {
+    phase_field_ = std::make_unique<PhaseFieldSystem>(options_.phase_field, solid_.material.fracture_energy, options_.dx);
+    const size_t n = solid_.size();
+    const mpm::SolidParticles& q = solid_.particles;
+    const double kappa = bulk_modulus(q.material.mu, q.material.lambda);
+    pf_c_.resize(n);
+    pf_history_.resize(n);
+    pf_volume_.resize(n);
+    for (size_t p = 0; p < n; ++p) {
+      pf_c_[p] = std::clamp(1.0 - solid_.damage[p].c, 0.0, 1.0);
+      // The history outlives a solver (a fracture event or the shatter loop builds a new one).
+      pf_history_[p] = std::max(solid_.damage[p].history, split_energy(q.F[p], q.material.mu, kappa).tensile);
+      solid_.damage[p].history = pf_history_[p];
+    }
+  }
   damaged_ = solid_.count_damaged();
 }
 
@@ -143,8 +169,49 @@ void BrittleSolver::stage_p2g() {
   for (const GhostParticle& g : ghosts_)
     if (active_fraction(g, time_, dt_) > 0) ghost_x_.push_back(g.rest + (solid_.particles.x[g.anchor] - solid_.rest[g.anchor]));
   grid_.rebuild(solid_.particles.x.data(), solid_.size(), ghost_x_, sides_.active(), options_.memory_limit);
+  if (phase_field_ && steps_ % options_.phase_field.interval == 0) {
+    t.pause();
+    stage_phase_field();
+    t.resume();
+  }
   if (sides_.active()) sides_.classify(grid_, solid_.particles.x.data());
   grid_.transfer_to_grid(view(), dt_);
+}
+
+void BrittleSolver::stage_phase_field() {
+  Timer t(times_.phase_field);
+  mpm::SolidParticles& q = solid_.particles;
+  const size_t n = solid_.size();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t p = r.begin(); p != r.end(); ++p) pf_volume_[p] = q.volume[p] * q.F[p].determinant();
+  });
+  const PhaseFieldParticles view{n, q.x.data(), pf_volume_.data(), pf_history_.data(), pf_c_.data()};
+  const PhaseFieldStats st = phase_field_->solve(grid_, view, dt_);
+  PhaseFieldTotals& tot = pf_totals_;
+  ++tot.solves;
+  tot.iterations += st.iterations;
+  tot.max_iterations = std::max(tot.max_iterations, st.iterations);
+  tot.unconverged += st.converged ? 0 : 1;
+  tot.analyses = phase_field_->analyses();
+  tot.worst_residual = std::max(tot.worst_residual, st.residual);
+  tot.unknowns = st.unknowns;
+  // The force of this step sees the new c (seed 001, sec. 4.1 step 2).
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 2048), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t p = r.begin(); p != r.end(); ++p) phase_field_stress(p);
+  });
+}
+
+void BrittleSolver::phase_field_stress(size_t p) {
+  mpm::SolidParticles& q = solid_.particles;
+  const double mu = q.material.mu, kappa = bulk_modulus(mu, q.material.lambda);
+  const double c = pf_c_[p];
+  q.stress[p] = q.volume[p] * split_kirchhoff(q.F[p], mu, kappa, degradation(c, options_.phase_field.residual));
+  // Damage in the thesis's convention (0 healthy, 1 broken) for crack extraction and the damage time.
+  ParticleDamage& d = solid_.damage[p];
+  d.c = 1.0 - c;
+  if (c <= options_.phase_field.broken_below) d.c_his = 1.0;
+  else d.c_his = std::max(d.c_his, d.c);
+  if (d.c_his >= 1.0 && d.tau < 0) d.tau = time_;
 }
 
 void BrittleSolver::stage_forces() {
@@ -200,7 +267,12 @@ void BrittleSolver::stage_damage() {
             first_bad = std::min(first_bad, p);
             continue;
           }
-          if (damage)
+          if (phase_field_) {
+            // Psi^H only grows: the crack cannot close (seed 001, sec. 3.4.2).
+            pf_history_[p] = std::max(pf_history_[p], split_energy(F, mu, bulk_modulus(mu, lambda)).tensile);
+            solid_.damage[p].history = pf_history_[p];
+            phase_field_stress(p);
+          } else if (damage)
             q.stress[p] = damage_step(F, q.volume[p], mu, lambda, solid_.failure_stress[p], solid_.brittleness[p], rule, now,
                                       solid_.damage[p]);
           else

@@ -1,5 +1,6 @@
 #pragma once
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -7,6 +8,7 @@
 #include "brittle/crack_sides.hpp"
 #include "brittle/crack_surface.hpp"
 #include "brittle/impact.hpp"
+#include "brittle/phase_field.hpp"
 #include "brittle/solid_grid.hpp"
 #include "mpm/colliders.hpp"
 
@@ -35,12 +37,25 @@ struct SolverOptions {
   // Instruction set of the p2g/g2p kernels (Auto: AVX2 with FMA where the processor has them); results
   // differ between sets by round-off only. The solver refuses a set the processor lacks.
   SolidGrid::TransferIsa transfer_isa = SolidGrid::TransferIsa::Auto;
+  // The phase field's parameters and solver, used when the material's model is DamageModel::PhaseField.
+  PhaseFieldOptions phase_field;
 };
 
 // Seconds spent in each stage since construction (wall clock, for summary.json).
 struct StageTimes {
-  double p2g = 0, forces = 0, grid_update = 0, g2p = 0, damage = 0, cracks = 0;
-  double total() const { return p2g + forces + grid_update + g2p + damage + cracks; }
+  double p2g = 0, forces = 0, grid_update = 0, g2p = 0, damage = 0, cracks = 0, phase_field = 0;
+  double total() const { return p2g + forces + grid_update + g2p + damage + cracks + phase_field; }
+};
+
+// Counters of the phase-field solves since construction.
+struct PhaseFieldTotals {
+  size_t solves = 0;
+  size_t iterations = 0;     // CG iterations, summed
+  size_t max_iterations = 0; // the most in one solve
+  size_t unconverged = 0;    // solves that stopped at max_iterations
+  size_t analyses = 0;       // CHOLMOD symbolic analyses
+  double worst_residual = 0; // largest |b - A c| / |b|
+  size_t unknowns = 0;       // free nodes of the last solve
 };
 
 // Advances one brittle solid with damage and (optionally) two velocity fields through named stages:
@@ -50,8 +65,11 @@ struct StageTimes {
 //   grid_update  velocities and gravity (Eq. 2.19), field contact (Eq. 3.6-3.7), colliders
 //   g2p          particle velocity, affine C, F and position (Eq. 2.20, 2.25, 2.26, 2.21); collider
 //                projection of particles
-//   damage       effective stress, c, c_his, tau_p and the weakened stress (Eq. 2.28-2.31)
-// step() runs them in this order. Crack extraction is not a stage of the step: the caller extracts a
+//   damage       Rankine: effective stress, c, c_his, tau_p and the weakened stress (Eq. 2.28-2.31);
+//                phase field: the history Psi^H and the degraded stress at the new F
+// step() runs them in this order. With the phase-field model, p2g first solves the grid phase field
+// from F^n (seed 001, Eq. 7; every options.phase_field.interval steps, timed as "phase_field") and
+// scatters the stress degraded by the new c: the staggered scheme of seed 001, sec. 4.3. Crack extraction is not a stage of the step: the caller extracts a
 // crack surface from the damage history (extract_crack_surface) when it wants and hands it to set_crack,
 // which re-classifies the particles for the two fields.
 class BrittleSolver {
@@ -74,6 +92,7 @@ class BrittleSolver {
   void stage_grid_update();
   void stage_g2p();
   void stage_damage();
+  void stage_phase_field();
 
   // Stops when a criterion of options().stop is met (checked after each step's damage stage).
   bool should_stop() const { return reason_ != StopReason::None; }
@@ -88,6 +107,10 @@ class BrittleSolver {
   const CrackSides& sides() const { return sides_; }
   const StageTimes& times() const { return times_; }
   FieldContactStats last_contact() const { return contact_; }
+  const PhaseFieldTotals& phase_field_totals() const { return pf_totals_; }
+  bool phase_field() const { return phase_field_ != nullptr; }
+  // c_p of the phase field (1 healthy, 0 broken); empty for Rankine damage.
+  const std::vector<double>& phase() const { return pf_c_; }
   BrittleSolid& solid() { return solid_; }
   // Total linear momentum sum m v of the particles.
   Vec3 momentum() const;
@@ -97,6 +120,8 @@ class BrittleSolver {
 
  private:
   SolidView view();
+  // Degraded stress and damage state of particle p from its phase value (phase-field model).
+  void phase_field_stress(size_t p);
   BrittleSolid& solid_;
   SolverOptions options_;
   SolidGrid grid_;
@@ -110,6 +135,10 @@ class BrittleSolver {
   StopReason reason_ = StopReason::None;
   StageTimes times_;
   FieldContactStats contact_;
+  // Phase-field model: the grid system, c_p, Psi^H_p and the current volumes V^0 J.
+  std::unique_ptr<PhaseFieldSystem> phase_field_;
+  std::vector<double> pf_c_, pf_history_, pf_volume_;
+  PhaseFieldTotals pf_totals_;
 };
 
 }  // namespace shellfrac::brittle

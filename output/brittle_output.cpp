@@ -77,6 +77,17 @@ std::vector<BrittleSolidReport> BrittleWriter::reports(const sim::Simulation& si
     const brittle::StageTimes& t = b.solver->times();
     r.stage_seconds = {{"p2g", t.p2g}, {"forces", t.forces}, {"grid_update", t.grid_update},
                        {"g2p", t.g2p}, {"damage", t.damage}, {"cracks", t.cracks}};
+    if (b.solver->phase_field()) {
+      const brittle::PhaseFieldTotals& pf = b.solver->phase_field_totals();
+      r.stage_seconds.emplace_back("phase_field", t.phase_field);
+      r.damage_model = "phase_field";
+      r.pf_solves = pf.solves;
+      r.pf_iterations = pf.iterations;
+      r.pf_max_iterations = pf.max_iterations;
+      r.pf_unconverged = pf.unconverged;
+      r.pf_analyses = pf.analyses;
+      r.pf_worst_residual = pf.worst_residual;
+    }
     r.sliver_volume_threshold = b.spec->sliver_volume;
     if (b.event) {
       const brittle::FractureEvent& ev = *b.event;
@@ -133,6 +144,11 @@ Json brittle_json(const std::vector<BrittleSolidReport>& reports) {
     Json stages = Json::object();
     for (const auto& [name, seconds] : r.stage_seconds) stages[name] = seconds;
     j["stage_seconds"] = stages;
+    j["damage_model"] = r.damage_model;
+    if (r.damage_model == "phase_field")
+      j["phase_field"] = {{"solves", r.pf_solves},           {"iterations", r.pf_iterations},
+                          {"max_iterations", r.pf_max_iterations}, {"unconverged", r.pf_unconverged},
+                          {"analyses", r.pf_analyses},       {"worst_residual", r.pf_worst_residual}};
     if (r.event) {
       j["files"] = {{"fragments", r.fragments_file}, {"crack", r.crack_file}, {"particles", r.particles_file}};
       j["cutter"] = r.cutter;
@@ -177,6 +193,16 @@ std::vector<BrittleSolidReport> brittle_reports_from_json(const Json& list) {
       r.crack_updates = j.at("crack_updates").get<size_t>();
       r.event = j.at("event").get<bool>();
       for (const auto& [name, seconds] : j.at("stage_seconds").items()) r.stage_seconds.emplace_back(name, seconds.get<double>());
+      r.damage_model = j.value("damage_model", std::string("rankine"));
+      if (j.contains("phase_field")) {
+        const Json& pf = j.at("phase_field");
+        r.pf_solves = pf.at("solves").get<size_t>();
+        r.pf_iterations = pf.at("iterations").get<size_t>();
+        r.pf_max_iterations = pf.at("max_iterations").get<size_t>();
+        r.pf_unconverged = pf.at("unconverged").get<size_t>();
+        r.pf_analyses = pf.at("analyses").get<size_t>();
+        r.pf_worst_residual = pf.at("worst_residual").get<double>();
+      }
       if (r.event) {
         r.fragments_file = j.at("files").at("fragments").get<std::string>();
         r.crack_file = j.at("files").at("crack").get<std::string>();

@@ -196,7 +196,8 @@ model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t 
   mat.youngs_modulus = *sm.youngs_modulus;
   mat.poisson_ratio = *sm.poisson_ratio;
   mat.density = *sm.density;
-  mat.failure_stress = *sm.failure_stress;
+  mat.model = sm.damage_model == "phase_field" ? brittle::DamageModel::PhaseField : brittle::DamageModel::Rankine;
+  mat.failure_stress = sm.failure_stress.value_or(0.0);  // the phase field has none (H = 0, unused)
   mat.fracture_energy = *sm.fracture_energy;
   mat.rule = sm.damage_rule == "monotone" ? brittle::DamageRule::Monotone : brittle::DamageRule::Healing;
   mat.characteristic_length = sm.characteristic_length.value_or(0.0);
@@ -277,6 +278,22 @@ model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t 
     o.stop.damaged_fraction = fr.stop->damaged_fraction.value_or(0.0);
     o.stop.max_steps = static_cast<size_t>(fr.stop->max_steps.value_or(0));
     o.stop.max_time = fr.stop->max_time.value_or(0.0);
+  }
+  if (mat.model == brittle::DamageModel::PhaseField) {
+    brittle::PhaseFieldOptions& pf = o.phase_field;
+    const PhaseFieldMaterial& pm = *sm.phase_field;
+    pf.length_scale = pm.length_scale.value_or(0.0);
+    pf.mobility = *pm.mobility;
+    pf.residual = pm.residual.value_or(pf.residual);
+    pf.broken_below = pm.broken_below.value_or(pf.broken_below);
+    if (fr.phase_field) {
+      const PhaseFieldSolve& ps = *fr.phase_field;
+      pf.solver = ps.solver == "cholmod" ? brittle::PhaseFieldSolver::Cholmod : brittle::PhaseFieldSolver::ConjugateGradient;
+      pf.gradient = ps.gradient == "mls" ? brittle::PhaseFieldGradient::Mls : brittle::PhaseFieldGradient::Spline;
+      pf.interval = static_cast<size_t>(ps.interval.value_or(1));
+      pf.tolerance = ps.tolerance.value_or(pf.tolerance);
+      pf.max_iterations = static_cast<size_t>(ps.max_iterations.value_or(static_cast<int>(pf.max_iterations)));
+    }
   }
   out.crack_interval = fr.crack_interval.value_or(20);
   out.event.crack.grid.spacing = h_v;

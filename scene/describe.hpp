@@ -166,10 +166,23 @@ void describe(V& v, SolidMaterial& m) {
   v.number("E", m.youngs_modulus, Range::positive(), kRequired);
   v.number("nu", m.poisson_ratio, Range::open(-1.0, 0.5), kRequired);
   v.number("density", m.density, Range::positive(), kRequired);
+  v.choice("damage_model", m.damage_model, {"rankine", "phase_field"});
   v.number("failure_stress", m.failure_stress, Range::positive());
   v.number("fracture_energy", m.fracture_energy, Range::positive());
   v.choice("damage_rule", m.damage_rule, {"healing", "monotone"});
   v.number("characteristic_length", m.characteristic_length, Range::positive());
+  v.object("phase_field", m.phase_field);
+  const bool phase_field = m.damage_model == "phase_field";
+  v.check("phase_field", [&] {
+    if (phase_field && !m.phase_field) return "damage_model \"phase_field\" needs a \"phase_field\" object with its \"mobility\"";
+    if (!phase_field && m.phase_field) return "\"phase_field\" is only for damage_model \"phase_field\"";
+    return "";
+  });
+  v.check("damage_rule", [&] {
+    return phase_field && (m.damage_rule || m.characteristic_length || m.failure_stress)
+               ? "failure_stress, damage_rule and characteristic_length are Rankine keys; the phase field has none"
+               : "";
+  });
 }
 
 // The keys of a "mesh" solid or collider; a collider must give its voxel size. Only brittle solids
@@ -227,11 +240,13 @@ void describe(V& v, Solid& s) {
   if (s.material) {
     const SolidMaterial& m = *s.material;
     if (brittle) {
-      v.check("material/failure_stress", [&] { return m.failure_stress ? "" : "required key is missing (a brittle solid)"; });
+      v.check("material/failure_stress", [&] {
+        return m.failure_stress || m.damage_model == "phase_field" ? "" : "required key is missing (a brittle solid)";
+      });
       v.check("material/fracture_energy", [&] { return m.fracture_energy ? "" : "required key is missing (a brittle solid)"; });
     }
     v.check("material", [&] {
-      return !brittle && (m.failure_stress || m.fracture_energy || m.damage_rule || m.characteristic_length)
+      return !brittle && (m.failure_stress || m.fracture_energy || m.damage_rule || m.characteristic_length || m.damage_model)
                  ? "damage keys of a solid need a \"fracture\" object on the solid (docs/brittle.md)"
                  : "";
     });
@@ -242,6 +257,16 @@ void describe(V& v, Solid& s) {
       return s.remove[i].failure_stress ? "a removed region has no failure stress (strength regions go in \"strength\")" : "";
     });
   v.object("strength", s.strength);
+  v.check("strength", [&] {
+    return s.strength && s.material && s.material->damage_model == "phase_field"
+               ? "\"strength\" varies the Rankine failure stress; a phase-field solid has none"
+               : "";
+  });
+  v.check("fracture/phase_field", [&] {
+    return brittle && s.fracture->phase_field && !(s.material && s.material->damage_model == "phase_field")
+               ? "\"fracture/phase_field\" configures the phase-field solve; the material's damage_model is not \"phase_field\""
+               : "";
+  });
   v.objects("impacts", s.impacts, 0);
   v.object("rigid_body", s.rigid_body);
   // A rigid body's fracture runs stop after a few contact times of their impact (contact_times).

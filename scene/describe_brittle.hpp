@@ -76,7 +76,25 @@ void describe(V& v, BreakageOrder& b) {
 }
 
 template <class V>
+void describe(V& v, PhaseFieldMaterial& m) {
+  v.number("length_scale", m.length_scale, Range::positive());
+  v.number("mobility", m.mobility, Range::positive(), kRequired);
+  v.number("residual", m.residual, Range::open(0.0, 1.0));
+  v.number("broken_below", m.broken_below, Range::closed(0.0, 0.99));
+}
+
+template <class V>
+void describe(V& v, PhaseFieldSolve& s) {
+  v.choice("solver", s.solver, {"cg", "cholmod"});
+  v.choice("gradient", s.gradient, {"spline", "mls"});
+  v.integer("interval", s.interval, Range::closed(1, 1000000));
+  v.number("tolerance", s.tolerance, Range::open(0.0, 1.0));
+  v.integer("max_iterations", s.max_iterations, Range::closed(1, 100000000));
+}
+
+template <class V>
 void describe(V& v, SolidFracture& f) {
+  v.object("phase_field", f.phase_field);
   v.number("grid_spacing", f.grid_spacing, Range::positive());
   v.number("crack_grid_spacing", f.crack_grid_spacing, Range::positive());
   v.number("cfl", f.cfl, Range::left_open(0.0, 1.0));

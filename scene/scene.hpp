@@ -114,12 +114,20 @@ struct Shell {
   std::vector<Cut> cuts;
 };
 
+// The CD-MPM phase field's material parameters (seed 001, sec. 3.4.2; docs/phase-field.md).
+struct PhaseFieldMaterial {
+  Opt<double> length_scale, mobility, residual, broken_below;
+};
+
 struct SolidMaterial {
   Opt<std::string> model;
   Opt<double> youngs_modulus, poisson_ratio, density;
-  // Rankine damage of a brittle solid (thesis Eq. 2.28-2.31); read only with a "fracture" object.
+  // Damage of a brittle solid, read only with a "fracture" object: Rankine (thesis Eq. 2.28-2.31), the
+  // default, or the CD-MPM phase field.
+  Opt<std::string> damage_model;  // "rankine" or "phase_field"
   Opt<double> failure_stress, fracture_energy, characteristic_length;
-  Opt<std::string> damage_rule;  // "healing" or "monotone"
+  Opt<std::string> damage_rule;  // "healing" or "monotone" (Rankine)
+  Opt<PhaseFieldMaterial> phase_field;
 };
 
 // A box or sphere in a brittle solid's material space: particles removed there ("remove", notches) or a
@@ -160,8 +168,17 @@ struct BreakageOrder {
   Opt<int> smoothing_steps;  // 0: the crack sheets stay staircases of the lattice's cells
 };
 
+// How the phase-field system is solved (docs/phase-field.md).
+struct PhaseFieldSolve {
+  Opt<std::string> solver;    // "cg" or "cholmod"
+  Opt<std::string> gradient;  // "spline" or "mls"
+  Opt<int> interval, max_iterations;
+  Opt<double> tolerance;
+};
+
 // The brittle run of a solid (docs/brittle.md): a solid with this object is broken by the brittle solver.
 struct SolidFracture {
+  Opt<PhaseFieldSolve> phase_field;
   Opt<double> grid_spacing, crack_grid_spacing, cfl;
   Opt<bool> two_fields, field_contact;
   Opt<int> crack_interval;

@@ -22,6 +22,7 @@ packages=(
   libcgal-dev libgmp-dev libmpfr-dev  # exact mesh booleans for fragments (brittle)
   libbullet-dev          # rigid bodies of the shatter loop (rigid/)
   libmeshoptimizer-dev   # decimated collision meshes of breakable bodies (rigid/)
+  libsuitesparse-dev     # CHOLMOD, the sparse Cholesky of the phase-field solve (brittle/)
   pybind11-dev python3-dev  # the Python module (python/, docs/python.md)
   python3-numpy python3-pytest python3-matplotlib  # its arrays, its tests (tests/python/), its examples
 )

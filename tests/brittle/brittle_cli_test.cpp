@@ -187,7 +187,7 @@ TEST(BrittleCli, EveryBrittleSceneValidates) {
     const Result r = shellfrac("validate " + e.path().string());
     EXPECT_EQ(r.exit_code, 0) << e.path() << "\n" << r.output;
   }
-  EXPECT_EQ(count, 6);
+  EXPECT_EQ(count, 7);
 }
 
 // Three-point bending of a notched beam: the crack runs from the notch through the height, so the beam
@@ -204,6 +204,28 @@ TEST(BrittleCli, NotchedBeamBreaksInTwoAtTheNotch) {
   EXPECT_LT(a["centroid"][0].get<double>() * b["centroid"][0].get<double>(), 0.0);  // opposite sides
   EXPECT_NEAR(a["volume"].get<double>() / beam["input_volume"].get<double>(), 0.5, 0.1);
   EXPECT_EQ(objects_in(d / beam["files"]["fragments"].get<std::string>()), beam["fragments"].size());
+  fs::remove_all(d);
+}
+
+// A notched bar pulled apart by sticky grips, broken by the CD-MPM phase field (scenes/brittle/
+// pulled-bar-phase-field.json): the crack runs from the notch across the section, so the bar ends in
+// two pieces, one each side of x = 0, of half the volume each (symmetry). Every CG solve converged to
+// the tolerance 1e-10 (the solver reports unconverged solves).
+TEST(BrittleCli, PulledBarBreaksAtTheNotchUnderThePhaseField) {
+  const fs::path d = scratch("pulled_bar");
+  const Json s = run_scene("pulled-bar-phase-field", d);
+  ASSERT_EQ(s["brittle"].size(), 1u);
+  const Json& bar = s["brittle"][0];
+  check_event(bar, d, 1000);
+  EXPECT_EQ(bar["damage_model"], "phase_field");
+  EXPECT_GT(bar["phase_field"]["solves"].get<size_t>(), 100u);
+  EXPECT_EQ(bar["phase_field"]["unconverged"].get<size_t>(), 0u);
+  EXPECT_LE(bar["phase_field"]["worst_residual"].get<double>(), 1e-10);
+  ASSERT_EQ(bar["fragment_count"].get<size_t>(), 2u);
+  const Json& a = bar["fragments"][0];
+  const Json& b = bar["fragments"][1];
+  EXPECT_LT(a["centroid"][0].get<double>() * b["centroid"][0].get<double>(), 0.0);
+  EXPECT_NEAR(a["volume"].get<double>() / bar["input_volume"].get<double>(), 0.5, 0.02);
   fs::remove_all(d);
 }
 

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "brittle/phase_field.hpp"
 #include "scene/build.hpp"
 #include "scene/json_io.hpp"
 #include "scene/scene_error.hpp"
@@ -79,6 +80,58 @@ TEST(BrittleSceneKeys, BreakageOrderSmoothingStepsReachTheEvent) {
   } catch (const SceneError& e) {
     EXPECT_EQ(e.json_path(), "/solids/0/fracture/breakage_order/smoothing_steps");
   }
+}
+
+// The phase-field keys reach the material and the solver options; defaults where the scene is silent
+// (l0 = 0 means half the grid spacing, r = 1e-3, CG, spline gradient, every step); a phase-field solid
+// given Rankine keys or no mobility, or a Rankine solid given a phase-field solve, is refused at its path.
+std::string refusal_path(const Scene& s) {
+  try {
+    build(s);
+  } catch (const SceneError& e) {
+    return e.json_path();
+  }
+  return "(accepted)";
+}
+
+TEST(BrittleSceneKeys, PhaseFieldKeysReachTheSolver) {
+  Scene s = load_scene(brittle_scene("pulled-bar-phase-field").string());
+  {
+    const Model m = build(s);
+    ASSERT_EQ(m.brittle_solids.size(), 1u);
+    const model::BrittleBody& b = m.brittle_solids[0];
+    EXPECT_EQ(b.solid->material.model, brittle::DamageModel::PhaseField);
+    const brittle::PhaseFieldOptions& pf = b.solver.phase_field;
+    EXPECT_DOUBLE_EQ(pf.mobility, 2000.0);
+    EXPECT_DOUBLE_EQ(pf.length_scale, 0.0);
+    EXPECT_DOUBLE_EQ(pf.residual, 1e-3);
+    EXPECT_EQ(pf.solver, brittle::PhaseFieldSolver::ConjugateGradient);
+    EXPECT_EQ(pf.gradient, brittle::PhaseFieldGradient::Spline);
+    EXPECT_EQ(pf.interval, 1u);
+  }
+  s.solids[0].fracture->phase_field->solver = "cholmod";
+  s.solids[0].fracture->phase_field->interval = 3;
+  s.solids[0].material->phase_field->length_scale = 0.004;
+  {
+    const brittle::PhaseFieldOptions& pf = build(s).brittle_solids[0].solver.phase_field;
+    EXPECT_EQ(pf.solver, brittle::PhaseFieldSolver::Cholmod);
+    EXPECT_EQ(pf.interval, 3u);
+    EXPECT_DOUBLE_EQ(pf.length_scale, 0.004);
+  }
+  Scene bad = s;
+  bad.solids[0].material->phase_field->mobility.reset();
+  EXPECT_EQ(refusal_path(bad), "/solids/0/material/phase_field/mobility");
+  bad = s;
+  bad.solids[0].material->phase_field->mobility = -1.0;
+  EXPECT_EQ(refusal_path(bad), "/solids/0/material/phase_field/mobility");
+  bad = s;
+  bad.solids[0].material->failure_stress = 1e5;
+  EXPECT_EQ(refusal_path(bad), "/solids/0/material/damage_rule");
+  bad = s;
+  bad.solids[0].material->damage_model = "rankine";
+  bad.solids[0].material->phase_field.reset();
+  bad.solids[0].material->failure_stress = 1e5;
+  EXPECT_EQ(refusal_path(bad), "/solids/0/fracture/phase_field");
 }
 
 TEST(BrittleSceneKeys, SceneBuiltInCodeIsRefusedLikeTheFile) {

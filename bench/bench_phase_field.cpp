@@ -1,0 +1,78 @@
+// Cost of CD-MPM's non-local phase field against the thesis's local Rankine damage (issue 30): wall
+// time per brittle step on a stretched cube of n^3 particles (two per cell and axis, single velocity
+// field), for local damage, the phase field with matrix-free CG, and the phase field with CHOLMOD.
+//
+//   build/bench/bench_phase_field --benchmark_counters_tabular=true
+//
+// range(0): the cube's side in particles; range(1): 0 = Rankine, 1 = phase field + CG, 2 = phase field
+// + CHOLMOD. Counters: ms per step and of the phase-field stage, CG iterations per solve, unknowns.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+
+#include "brittle/solver.hpp"
+
+namespace {
+
+using namespace shellfrac::brittle;
+
+BrittleSolid stretched_cube(int n, double s, DamageModel model) {
+  BrittleSolid solid;
+  solid.material.youngs_modulus = 1e7;
+  solid.material.poisson_ratio = 0.2;
+  solid.material.density = 1000;
+  solid.material.failure_stress = 1e5;
+  solid.material.fracture_energy = 8;
+  solid.material.model = model;
+  solid.spacing = s;
+  std::vector<Vec3> pts;
+  pts.reserve(static_cast<size_t>(n) * n * n);
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) pts.emplace_back(s * (i + 0.5), s * (j + 0.5), s * (k + 0.5));
+  solid.add_particles(pts, s * s * s, Vec3::Zero());
+  solid.set_strength({}, WeibullStrength{}, 2 * s);
+  // Stretching along x at 2 /s: tension everywhere, so damage and Psi^H evolve in every particle.
+  const double mid = 0.5 * n * s;
+  for (size_t p = 0; p < solid.size(); ++p) solid.particles.v[p] = Vec3(2.0 * (solid.rest[p].x() - mid), 0, 0);
+  return solid;
+}
+
+void BM_DamageStep(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const int mode = static_cast<int>(state.range(1));
+  const double s = 0.0025;
+  BrittleSolid solid = stretched_cube(n, s, mode == 0 ? DamageModel::Rankine : DamageModel::PhaseField);
+  SolverOptions o;
+  o.dx = 2 * s;
+  o.two_fields = false;
+  o.phase_field.mobility = 2000;
+  o.phase_field.solver = mode == 2 ? PhaseFieldSolver::Cholmod : PhaseFieldSolver::ConjugateGradient;
+  BrittleSolver solver(solid, o);
+  for (int warm = 0; warm < 2; ++warm) solver.step();
+  const StageTimes before = solver.times();
+  const PhaseFieldTotals pf_before = solver.phase_field_totals();
+  for (auto _ : state) solver.step();
+  const StageTimes& after = solver.times();
+  const PhaseFieldTotals& pf = solver.phase_field_totals();
+  const double steps = static_cast<double>(state.iterations());
+  state.SetLabel(mode == 0 ? "rankine" : mode == 1 ? "phase_field_cg" : "phase_field_cholmod");
+  state.counters["particles"] = static_cast<double>(solid.size());
+  state.counters["ms_per_step"] = 1e3 * (after.total() - before.total()) / steps;
+  state.counters["phase_field_ms"] = 1e3 * (after.phase_field - before.phase_field) / steps;
+  state.counters["p2g_ms"] = 1e3 * (after.p2g - before.p2g) / steps;
+  const double solves = static_cast<double>(pf.solves - pf_before.solves);
+  state.counters["cg_iterations"] = solves > 0 ? static_cast<double>(pf.iterations - pf_before.iterations) / solves : 0;
+  state.counters["unknowns"] = static_cast<double>(pf.unknowns);
+  state.counters["analyses"] = static_cast<double>(pf.analyses - pf_before.analyses);
+}
+// 8K, 64K, 216K, 512K and 1M particles.
+BENCHMARK(BM_DamageStep)
+    ->ArgsProduct({{20, 40, 60, 80, 100}, {0, 1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(1.0)
+    ->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();
