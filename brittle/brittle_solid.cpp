@@ -32,6 +32,16 @@ void BrittleSolid::add_particles(const std::vector<Vec3>& points, double particl
 
 void BrittleSolid::set_strength(const std::vector<StrengthRegion>& regions, const WeibullStrength& weibull, double grid_dx) {
   if (!(material.youngs_modulus > 0)) throw InputError("youngs_modulus must be > 0");
+  if (material.model == DamageModel::Nacc) {
+    // NACC breaks by softening of its yield surface: no failure stress, no fracture energy.
+    if (!regions.empty() || weibull.enabled)
+      throw InputError("strength regions and Weibull scatter belong to Rankine damage, not NACC plasticity");
+    if (const std::string e = material.nacc.validate(); !e.empty()) throw InputError("nacc: " + e);
+    failure_stress.assign(size(), 0.0);
+    brittleness.assign(size(), 0.0);
+    for (ParticleDamage& d : damage) d.alpha = material.nacc.alpha0;
+    return;
+  }
   if (!(material.fracture_energy > 0)) throw InputError("fracture_energy must be > 0");
   if (material.model == DamageModel::PhaseField) {
     // The phase field has no failure stress: the fracture energy and length scale set where it breaks.

@@ -33,6 +33,7 @@ struct ParticleDamage {
   double c_his = 0;    // largest damage so far
   double tau = -1;     // time c_his first reached 1 (thesis sec. 3.7), -1 while it has not
   double history = 0;  // phase field only: Psi^H, the largest tensile energy so far (CD-MPM Eq. 5) [J/m^3]
+  double alpha = 0;    // NACC only: the hardening state (CD-MPM sec. 6.2.3), alpha0 at the start
 };
 
 // One damage step of a particle (thesis sec. 2.3.2): effective stress sigma_bar = tau(F)/J, its largest

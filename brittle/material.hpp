@@ -1,6 +1,8 @@
 #pragma once
 #include <cmath>
 
+#include "brittle/nacc.hpp"
+
 namespace shellfrac::brittle {
 
 // How the damage variable evolves between steps (thesis sec. 2.3.1 and 4.4.1).
@@ -13,11 +15,12 @@ enum class DamageRule {
 enum class DamageModel {
   Rankine,     // local Rankine damage with linear softening (thesis sec. 2.3), on the Neo-Hookean solid
   PhaseField,  // the non-local phase field of CD-MPM (seed 001, secs. 3.4-5) on its split Neo-Hookean solid
+  Nacc,        // CD-MPM's non-associated Cam-Clay plasticity (seed 001, sec. 6.2): fracture by softening
 };
 
 // An isotropic brittle solid: Neo-Hookean elasticity (thesis Eq. 2.3) with local Rankine damage by linear
-// strain softening (Eq. 2.28-2.31), or the CD-MPM phase field (the solver's PhaseFieldOptions, with
-// fracture_energy as its G). SI units.
+// strain softening (Eq. 2.28-2.31), the CD-MPM phase field (the solver's PhaseFieldOptions, with
+// fracture_energy as its G), or NACC plasticity on the elasticity of seed 001, Eq. 9-10 (nacc). SI units.
 struct BrittleMaterial {
   double youngs_modulus = 0;   // E [Pa]
   double poisson_ratio = 0;    // nu
@@ -28,6 +31,7 @@ struct BrittleMaterial {
   DamageModel model = DamageModel::Rankine;
   // l_ch [m]; 0 means the grid-cell diagonal sqrt(3) h the thesis uses (sec. 2.3.1, Table 3.3 caption).
   double characteristic_length = 0;
+  NaccParams nacc;  // DamageModel::Nacc only
 
   double mu() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
   double lambda() const {

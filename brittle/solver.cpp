@@ -74,6 +74,12 @@ BrittleSolver::BrittleSolver(BrittleSolid& solid, SolverOptions options)
       solid_.damage[p].history = pf_history_[p];
     }
   }
+  if (solid_.material.model == DamageModel::Nacc) {
+    nacc_branch_.assign(solid_.size(), static_cast<uint8_t>(NaccCase::Elastic));
+    for (const ParticleDamage& d : solid_.damage)
+      if (!(d.alpha < 0) && !(d.c_his >= 1.0))
+        throw InputError("solver: NACC particles need their hardening state; call BrittleSolid::set_strength");
+  }
   damaged_ = solid_.count_damaged();
 }
 
@@ -214,6 +220,20 @@ void BrittleSolver::phase_field_stress(size_t p) {
   if (d.c_his >= 1.0 && d.tau < 0) d.tau = time_;
 }
 
+void BrittleSolver::nacc_stress(size_t p) {
+  mpm::SolidParticles& q = solid_.particles;
+  const double mu = q.material.mu, kappa = bulk_modulus(mu, q.material.lambda);
+  const NaccParams& m = solid_.material.nacc;
+  ParticleDamage& d = solid_.damage[p];
+  // F holds F^E: the trial state after g2p, projected back onto the yield surface (seed 001, sec. 6.2).
+  const NaccCase branch = nacc_project(q.F[p], d.alpha, mu, kappa, m);
+  nacc_branch_[p] = static_cast<uint8_t>(branch);
+  q.stress[p] = q.volume[p] * split_kirchhoff(q.F[p], mu, kappa, 1.0);
+  d.c = nacc_damage(d.alpha, kappa, m);
+  d.c_his = std::max(d.c_his, d.c);
+  if (d.c_his >= 1.0 && d.tau < 0) d.tau = time_;
+}
+
 void BrittleSolver::stage_forces() {
   Timer t(times_.forces);
   if (ghost_x_.empty()) return;
@@ -255,6 +275,7 @@ void BrittleSolver::stage_damage() {
   const size_t n = solid_.size();
   const DamageRule rule = solid_.material.rule;
   const bool damage = options_.damage;
+  const bool nacc = solid_.material.model == DamageModel::Nacc;
   const double now = time_;
   // The first bad particle (inverted or non-finite F) in index order, for the error message.
   const size_t bad = tbb::parallel_reduce(
@@ -272,6 +293,8 @@ void BrittleSolver::stage_damage() {
             pf_history_[p] = std::max(pf_history_[p], split_energy(F, mu, bulk_modulus(mu, lambda)).tensile);
             solid_.damage[p].history = pf_history_[p];
             phase_field_stress(p);
+          } else if (nacc && damage) {
+            nacc_stress(p);
           } else if (damage)
             q.stress[p] = damage_step(F, q.volume[p], mu, lambda, solid_.failure_stress[p], solid_.brittleness[p], rule, now,
                                       solid_.damage[p]);
@@ -286,6 +309,10 @@ void BrittleSolver::stage_damage() {
     m << "particle " << bad << " (rest position " << solid_.rest[bad].transpose() << ") inverted or diverged at step "
       << steps_ << " (det F = " << q.F[bad].determinant() << "); lower the time step (cfl) or the loading";
     throw NumericalError(m.str());
+  }
+  if (nacc && damage) {
+    for (const uint8_t b : nacc_branch_) ++nacc_totals_.branch[b];
+    ++nacc_totals_.steps;
   }
   damaged_ = solid_.count_damaged();
   const StoppingCriteria& s = options_.stop;

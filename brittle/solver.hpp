@@ -1,5 +1,6 @@
 #pragma once
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -58,6 +59,12 @@ struct PhaseFieldTotals {
   size_t unknowns = 0;       // free nodes of the last solve
 };
 
+// Particle-steps through each branch of the NACC return mapping since construction.
+struct NaccTotals {
+  size_t steps = 0;
+  std::array<size_t, 4> branch{};  // indexed by NaccCase: elastic, compression, tension, shear
+};
+
 // Advances one brittle solid with damage and (optionally) two velocity fields through named stages:
 //   p2g          grid rebuild, crack-side classification, mass/momentum/MLS-stress scatter (Eq. 2.23,
 //                2.24, 3.3-3.5)
@@ -66,7 +73,8 @@ struct PhaseFieldTotals {
 //   g2p          particle velocity, affine C, F and position (Eq. 2.20, 2.25, 2.26, 2.21); collider
 //                projection of particles
 //   damage       Rankine: effective stress, c, c_his, tau_p and the weakened stress (Eq. 2.28-2.31);
-//                phase field: the history Psi^H and the degraded stress at the new F
+//                phase field: the history Psi^H and the degraded stress at the new F;
+//                NACC: the return mapping of F^E and alpha, the stress of Eq. 10, damage from alpha
 // step() runs them in this order. With the phase-field model, p2g first solves the grid phase field
 // from F^n (seed 001, Eq. 7; every options.phase_field.interval steps, timed as "phase_field") and
 // scatters the stress degraded by the new c: the staggered scheme of seed 001, sec. 4.3. Crack extraction is not a stage of the step: the caller extracts a
@@ -109,6 +117,7 @@ class BrittleSolver {
   FieldContactStats last_contact() const { return contact_; }
   const PhaseFieldTotals& phase_field_totals() const { return pf_totals_; }
   bool phase_field() const { return phase_field_ != nullptr; }
+  const NaccTotals& nacc_totals() const { return nacc_totals_; }
   // c_p of the phase field (1 healthy, 0 broken); empty for Rankine damage.
   const std::vector<double>& phase() const { return pf_c_; }
   BrittleSolid& solid() { return solid_; }
@@ -122,6 +131,8 @@ class BrittleSolver {
   SolidView view();
   // Degraded stress and damage state of particle p from its phase value (phase-field model).
   void phase_field_stress(size_t p);
+  // NACC return mapping of particle p's F^E, its stress and damage from alpha.
+  void nacc_stress(size_t p);
   BrittleSolid& solid_;
   SolverOptions options_;
   SolidGrid grid_;
@@ -139,6 +150,9 @@ class BrittleSolver {
   std::unique_ptr<PhaseFieldSystem> phase_field_;
   std::vector<double> pf_c_, pf_history_, pf_volume_;
   PhaseFieldTotals pf_totals_;
+  // NACC: the branch each particle took in the last damage stage.
+  std::vector<uint8_t> nacc_branch_;
+  NaccTotals nacc_totals_;
 };
 
 }  // namespace shellfrac::brittle

@@ -88,6 +88,10 @@ std::vector<BrittleSolidReport> BrittleWriter::reports(const sim::Simulation& si
       r.pf_analyses = pf.analyses;
       r.pf_worst_residual = pf.worst_residual;
     }
+    if (b.solid->material.model == brittle::DamageModel::Nacc) {
+      r.damage_model = "nacc";
+      r.nacc_branches = b.solver->nacc_totals().branch;
+    }
     r.sliver_volume_threshold = b.spec->sliver_volume;
     if (b.event) {
       const brittle::FractureEvent& ev = *b.event;
@@ -149,6 +153,10 @@ Json brittle_json(const std::vector<BrittleSolidReport>& reports) {
       j["phase_field"] = {{"solves", r.pf_solves},           {"iterations", r.pf_iterations},
                           {"max_iterations", r.pf_max_iterations}, {"unconverged", r.pf_unconverged},
                           {"analyses", r.pf_analyses},       {"worst_residual", r.pf_worst_residual}};
+    if (r.damage_model == "nacc")
+      j["nacc"] = {{"particle_steps",
+                    {{"elastic", r.nacc_branches[0]}, {"compression", r.nacc_branches[1]},
+                     {"tension", r.nacc_branches[2]}, {"shear", r.nacc_branches[3]}}}};
     if (r.event) {
       j["files"] = {{"fragments", r.fragments_file}, {"crack", r.crack_file}, {"particles", r.particles_file}};
       j["cutter"] = r.cutter;
@@ -202,6 +210,11 @@ std::vector<BrittleSolidReport> brittle_reports_from_json(const Json& list) {
         r.pf_unconverged = pf.at("unconverged").get<size_t>();
         r.pf_analyses = pf.at("analyses").get<size_t>();
         r.pf_worst_residual = pf.at("worst_residual").get<double>();
+      }
+      if (j.contains("nacc")) {
+        const Json& n = j.at("nacc").at("particle_steps");
+        r.nacc_branches = {n.at("elastic").get<size_t>(), n.at("compression").get<size_t>(), n.at("tension").get<size_t>(),
+                           n.at("shear").get<size_t>()};
       }
       if (r.event) {
         r.fragments_file = j.at("files").at("fragments").get<std::string>();

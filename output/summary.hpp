@@ -111,10 +111,12 @@ struct BrittleSolidReport {
   size_t merged_regions = 0;
   std::vector<BrittleFragmentReport> fragments;  // largest first, slivers included (flagged)
   std::vector<std::pair<std::string, double>> stage_seconds;
-  // The damage model ("rankine" or "phase_field") and, for the phase field, its solve totals.
+  // The damage model ("rankine", "phase_field" or "nacc"); for the phase field its solve totals, for
+  // NACC the particle-steps through each branch of the return mapping.
   std::string damage_model = "rankine";
   size_t pf_solves = 0, pf_iterations = 0, pf_max_iterations = 0, pf_unconverged = 0, pf_analyses = 0;
   double pf_worst_residual = 0;
+  std::array<size_t, 4> nacc_branches{};  // elastic, compression, tension, shear
 };
 
 // probes[i]: one output.probes entry, every sample (docs/cli.md).

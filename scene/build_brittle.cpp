@@ -196,9 +196,20 @@ model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t 
   mat.youngs_modulus = *sm.youngs_modulus;
   mat.poisson_ratio = *sm.poisson_ratio;
   mat.density = *sm.density;
-  mat.model = sm.damage_model == "phase_field" ? brittle::DamageModel::PhaseField : brittle::DamageModel::Rankine;
-  mat.failure_stress = sm.failure_stress.value_or(0.0);  // the phase field has none (H = 0, unused)
-  mat.fracture_energy = *sm.fracture_energy;
+  mat.model = sm.damage_model == "phase_field" ? brittle::DamageModel::PhaseField
+              : sm.damage_model == "nacc"      ? brittle::DamageModel::Nacc
+                                               : brittle::DamageModel::Rankine;
+  mat.failure_stress = sm.failure_stress.value_or(0.0);    // the phase field and NACC have none
+  mat.fracture_energy = sm.fracture_energy.value_or(0.0);  // NACC has none
+  if (sm.nacc) {
+    const NaccMaterial& nm = *sm.nacc;
+    brittle::NaccParams& np = mat.nacc;
+    np.alpha0 = nm.alpha0.value_or(np.alpha0);
+    np.beta = nm.beta.value_or(np.beta);
+    np.xi = nm.xi.value_or(np.xi);
+    np.friction = nm.friction.value_or(np.friction);
+    np.hardening = nm.hardening.value_or(np.hardening);
+  }
   mat.rule = sm.damage_rule == "monotone" ? brittle::DamageRule::Monotone : brittle::DamageRule::Healing;
   mat.characteristic_length = sm.characteristic_length.value_or(0.0);
 

@@ -166,21 +166,29 @@ void describe(V& v, SolidMaterial& m) {
   v.number("E", m.youngs_modulus, Range::positive(), kRequired);
   v.number("nu", m.poisson_ratio, Range::open(-1.0, 0.5), kRequired);
   v.number("density", m.density, Range::positive(), kRequired);
-  v.choice("damage_model", m.damage_model, {"rankine", "phase_field"});
+  v.choice("damage_model", m.damage_model, {"rankine", "phase_field", "nacc"});
   v.number("failure_stress", m.failure_stress, Range::positive());
   v.number("fracture_energy", m.fracture_energy, Range::positive());
   v.choice("damage_rule", m.damage_rule, {"healing", "monotone"});
   v.number("characteristic_length", m.characteristic_length, Range::positive());
   v.object("phase_field", m.phase_field);
-  const bool phase_field = m.damage_model == "phase_field";
+  v.object("nacc", m.nacc);
+  const bool phase_field = m.damage_model == "phase_field", nacc = m.damage_model == "nacc";
   v.check("phase_field", [&] {
     if (phase_field && !m.phase_field) return "damage_model \"phase_field\" needs a \"phase_field\" object with its \"mobility\"";
     if (!phase_field && m.phase_field) return "\"phase_field\" is only for damage_model \"phase_field\"";
     return "";
   });
+  v.check("nacc", [&] { return !nacc && m.nacc ? "\"nacc\" is only for damage_model \"nacc\"" : ""; });
   v.check("damage_rule", [&] {
     return phase_field && (m.damage_rule || m.characteristic_length || m.failure_stress)
                ? "failure_stress, damage_rule and characteristic_length are Rankine keys; the phase field has none"
+               : "";
+  });
+  v.check("damage_rule", [&] {
+    return nacc && (m.damage_rule || m.characteristic_length || m.failure_stress || m.fracture_energy)
+               ? "failure_stress, fracture_energy, damage_rule and characteristic_length are Rankine and phase-field "
+                 "keys; NACC breaks by the softening its \"nacc\" parameters set"
                : "";
   });
 }
@@ -241,9 +249,13 @@ void describe(V& v, Solid& s) {
     const SolidMaterial& m = *s.material;
     if (brittle) {
       v.check("material/failure_stress", [&] {
-        return m.failure_stress || m.damage_model == "phase_field" ? "" : "required key is missing (a brittle solid)";
+        return m.failure_stress || m.damage_model == "phase_field" || m.damage_model == "nacc"
+                   ? ""
+                   : "required key is missing (a brittle solid)";
       });
-      v.check("material/fracture_energy", [&] { return m.fracture_energy ? "" : "required key is missing (a brittle solid)"; });
+      v.check("material/fracture_energy", [&] {
+        return m.fracture_energy || m.damage_model == "nacc" ? "" : "required key is missing (a brittle solid)";
+      });
     }
     v.check("material", [&] {
       return !brittle && (m.failure_stress || m.fracture_energy || m.damage_rule || m.characteristic_length || m.damage_model)
@@ -258,8 +270,8 @@ void describe(V& v, Solid& s) {
     });
   v.object("strength", s.strength);
   v.check("strength", [&] {
-    return s.strength && s.material && s.material->damage_model == "phase_field"
-               ? "\"strength\" varies the Rankine failure stress; a phase-field solid has none"
+    return s.strength && s.material && (s.material->damage_model == "phase_field" || s.material->damage_model == "nacc")
+               ? "\"strength\" varies the Rankine failure stress; a phase-field or NACC solid has none"
                : "";
   });
   v.check("fracture/phase_field", [&] {

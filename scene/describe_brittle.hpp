@@ -84,6 +84,15 @@ void describe(V& v, PhaseFieldMaterial& m) {
 }
 
 template <class V>
+void describe(V& v, NaccMaterial& m) {
+  v.number("alpha0", m.alpha0, Range::open(-20.0, 0.0));
+  v.number("beta", m.beta, Range::closed(0.0, 1e3));
+  v.number("xi", m.xi, Range::left_open(0.0, 1e3));
+  v.number("friction", m.friction, Range::left_open(0.0, 1e3));
+  v.boolean("hardening", m.hardening);
+}
+
+template <class V>
 void describe(V& v, PhaseFieldSolve& s) {
   v.choice("solver", s.solver, {"cg", "cholmod"});
   v.choice("gradient", s.gradient, {"spline", "mls"});

@@ -119,15 +119,22 @@ struct PhaseFieldMaterial {
   Opt<double> length_scale, mobility, residual, broken_below;
 };
 
+// CD-MPM's NACC plasticity parameters (seed 001, sec. 6.2; docs/nacc.md).
+struct NaccMaterial {
+  Opt<double> alpha0, beta, xi, friction;
+  Opt<bool> hardening;
+};
+
 struct SolidMaterial {
   Opt<std::string> model;
   Opt<double> youngs_modulus, poisson_ratio, density;
   // Damage of a brittle solid, read only with a "fracture" object: Rankine (thesis Eq. 2.28-2.31), the
-  // default, or the CD-MPM phase field.
-  Opt<std::string> damage_model;  // "rankine" or "phase_field"
+  // default, the CD-MPM phase field, or CD-MPM's NACC plasticity.
+  Opt<std::string> damage_model;  // "rankine", "phase_field" or "nacc"
   Opt<double> failure_stress, fracture_energy, characteristic_length;
   Opt<std::string> damage_rule;  // "healing" or "monotone" (Rankine)
   Opt<PhaseFieldMaterial> phase_field;
+  Opt<NaccMaterial> nacc;
 };
 
 // A box or sphere in a brittle solid's material space: particles removed there ("remove", notches) or a

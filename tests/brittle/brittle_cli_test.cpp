@@ -187,7 +187,7 @@ TEST(BrittleCli, EveryBrittleSceneValidates) {
     const Result r = shellfrac("validate " + e.path().string());
     EXPECT_EQ(r.exit_code, 0) << e.path() << "\n" << r.output;
   }
-  EXPECT_EQ(count, 7);
+  EXPECT_EQ(count, 8);
 }
 
 // Three-point bending of a notched beam: the crack runs from the notch through the height, so the beam
@@ -226,6 +226,46 @@ TEST(BrittleCli, PulledBarBreaksAtTheNotchUnderThePhaseField) {
   const Json& b = bar["fragments"][1];
   EXPECT_LT(a["centroid"][0].get<double>() * b["centroid"][0].get<double>(), 0.0);
   EXPECT_NEAR(a["volume"].get<double>() / bar["input_volume"].get<double>(), 0.5, 0.02);
+  fs::remove_all(d);
+}
+
+// The same bar broken by CD-MPM's NACC plasticity (scenes/brittle/pulled-bar-nacc.json): the yield
+// ellipse's tensile tip softens the ligament until it carries nothing, and the crack extracted from the
+// broken particles cuts the bar at the notch plane into two halves. Every branch of the return mapping
+// is taken (the grips compress, the notch shears and pulls).
+TEST(BrittleCli, PulledBarBreaksAtTheNotchUnderNacc) {
+  const fs::path d = scratch("pulled_bar_nacc");
+  const Json s = run_scene("pulled-bar-nacc", d);
+  ASSERT_EQ(s["brittle"].size(), 1u);
+  const Json& bar = s["brittle"][0];
+  check_event(bar, d, 1000);
+  EXPECT_EQ(bar["damage_model"], "nacc");
+  const Json& steps = bar["nacc"]["particle_steps"];
+  size_t total = 0;
+  for (const char* branch : {"elastic", "compression", "tension", "shear"}) {
+    EXPECT_GT(steps[branch].get<size_t>(), 0u) << branch;
+    total += steps[branch].get<size_t>();
+  }
+  EXPECT_EQ(total, bar["steps"].get<size_t>() * bar["particles"].get<size_t>());
+  ASSERT_EQ(bar["fragment_count"].get<size_t>(), 2u);
+  const Json& a = bar["fragments"][0];
+  const Json& b = bar["fragments"][1];
+  EXPECT_LT(a["centroid"][0].get<double>() * b["centroid"][0].get<double>(), 0.0);
+  EXPECT_NEAR(a["volume"].get<double>() / bar["input_volume"].get<double>(), 0.5, 0.02);
+  // The crack surface lies within one grid cell (5 mm) of the notch plane x = 0.
+  std::ifstream crack(d / bar["files"]["crack"].get<std::string>());
+  std::string tag;
+  double x = 0, y = 0, z = 0, worst = 0;
+  size_t vertices = 0;
+  for (std::string line; std::getline(crack, line);) {
+    std::istringstream in(line);
+    if (in >> tag && tag == "v" && in >> x >> y >> z) {
+      worst = std::max(worst, std::abs(x));
+      ++vertices;
+    }
+  }
+  EXPECT_GT(vertices, 0u);
+  EXPECT_LE(worst, 0.005);
   fs::remove_all(d);
 }
 

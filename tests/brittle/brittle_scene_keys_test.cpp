@@ -134,6 +134,48 @@ TEST(BrittleSceneKeys, PhaseFieldKeysReachTheSolver) {
   EXPECT_EQ(refusal_path(bad), "/solids/0/fracture/phase_field");
 }
 
+// The NACC keys reach the material; defaults where the scene is silent; Rankine and phase-field keys,
+// strength scatter and out-of-range parameters are refused at their paths, and "nacc" on another model.
+TEST(BrittleSceneKeys, NaccKeysReachTheMaterial) {
+  Scene s = load_scene(brittle_scene("pulled-bar-nacc").string());
+  {
+    const Model m = build(s);
+    ASSERT_EQ(m.brittle_solids.size(), 1u);
+    const brittle::BrittleMaterial& mat = m.brittle_solids[0].solid->material;
+    EXPECT_EQ(mat.model, brittle::DamageModel::Nacc);
+    EXPECT_DOUBLE_EQ(mat.nacc.alpha0, -0.02);
+    EXPECT_DOUBLE_EQ(mat.nacc.beta, 0.5);
+    EXPECT_DOUBLE_EQ(mat.nacc.xi, 1.0);
+    EXPECT_DOUBLE_EQ(mat.nacc.friction, 1.0);
+    EXPECT_TRUE(mat.nacc.hardening);
+  }
+  s.solids[0].material->nacc->beta.reset();
+  s.solids[0].material->nacc->hardening = false;
+  {
+    const Model m = build(s);
+    const brittle::BrittleMaterial& mat = m.brittle_solids[0].solid->material;
+    EXPECT_DOUBLE_EQ(mat.nacc.beta, brittle::NaccParams{}.beta);
+    EXPECT_FALSE(mat.nacc.hardening);
+  }
+  Scene bad = s;
+  bad.solids[0].material->nacc->alpha0 = 0.0;
+  EXPECT_EQ(refusal_path(bad), "/solids/0/material/nacc/alpha0");
+  bad = s;
+  bad.solids[0].material->nacc->xi = 0.0;
+  EXPECT_EQ(refusal_path(bad), "/solids/0/material/nacc/xi");
+  bad = s;
+  bad.solids[0].material->nacc->beta = -0.5;
+  EXPECT_EQ(refusal_path(bad), "/solids/0/material/nacc/beta");
+  bad = s;
+  bad.solids[0].material->fracture_energy = 8.0;
+  EXPECT_EQ(refusal_path(bad), "/solids/0/material/damage_rule");
+  bad = s;
+  bad.solids[0].material->damage_model = "rankine";
+  bad.solids[0].material->failure_stress = 1e5;
+  bad.solids[0].material->fracture_energy = 8.0;
+  EXPECT_EQ(refusal_path(bad), "/solids/0/material/nacc");
+}
+
 TEST(BrittleSceneKeys, SceneBuiltInCodeIsRefusedLikeTheFile) {
   Scene s = load_scene(brittle_scene("notched-beam").string());
   s.solids[0].impacts.emplace_back();

@@ -167,6 +167,21 @@ TEST(PhaseField, DISABLED_StaticCrackProfileWithinTwoPercentAtFourCells) {
   EXPECT_LT(profile_error(0.01, 0.04, PhaseFieldGradient::Spline), 0.02);
 }
 
+// Where the phase field fails (the stability-map row "l0 too small for dx"): below two cells per l0 the
+// profile is not resolved. At the paper's default l0 = 0.5 dx the crack's largest error is several
+// times the 4 % of l0 = 2 dx (measured values in docs/phase-field.md); the bound asserted is what first
+// order predicts from l0 = 2 dx, halved, so a grid that resolved the profile would fail this test.
+TEST(PhaseField, ProfileIsUnresolvedBelowTwoCellsPerLengthScale) {
+  const double dx = 0.01;
+  const double e2 = profile_error(dx, 2 * dx, PhaseFieldGradient::Spline);
+  const double e1 = profile_error(dx, dx, PhaseFieldGradient::Spline);
+  const double e05 = profile_error(dx, 0.5 * dx, PhaseFieldGradient::Spline);
+  const double e025 = profile_error(dx, 0.25 * dx, PhaseFieldGradient::Spline);
+  std::printf("profile max error at fixed dx: l0/dx = 2: %.4f, 1: %.4f, 0.5: %.4f, 0.25: %.4f\n", e2, e1, e05, e025);
+  EXPECT_GT(e05, 0.5 * 4 * e2);
+  EXPECT_GT(e025, e05);
+}
+
 TEST(PhaseField, UnloadedMaterialStaysHealthy) {
   // With Psi^H = 0 and c = 1 everywhere, c = 1 solves Eq. 7 exactly (the B-spline gradients of a
   // constant vanish), so an unloaded solid never degrades, at any step size.
