@@ -22,6 +22,10 @@ struct ParticleSet {
   bool mls_force = false;
   // APIC affine velocity C_p (thesis Eq. 2.23, 2.25): read in p2g and written in g2p when non-null.
   Mat3* affine = nullptr;
+  // With `affine`: g2p keeps only the skew (rotational) part of C_p, the rigid-body PIC (RPIC) of Jiang
+  // et al. 2015. It keeps angular momentum and rigid rotation like APIC, and damps the stretching and
+  // shearing affine modes like PIC.
+  bool rigid_affine = false;
   // Grid velocity gradient sum_i v_i grad w_ip^T at the particle, written in g2p when non-null.
   Mat3* velocity_gradient = nullptr;
   // FLIP share in [0, 1] of the velocity update in g2p: v_p <- v_PIC + flip (v_p - sum_i w_ip v_i^old),

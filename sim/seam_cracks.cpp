@@ -96,6 +96,26 @@ SeamSystem::SeamSystem(const scene::Model& model, const World& world) : model_(m
     st.released.assign(c.follower_row1.size() * (c.continuity == coupling::Continuity::C1 ? 2 : 1), 0);
     build_projection(world, i);
   }
+  // Shear particles of cells that hold a control point the coupling stage sets or corrects.
+  shear_near_seam_.assign(world.num_shells(), {});
+  for (size_t patch = 0; patch < world.num_shells(); ++patch) {
+    std::vector<unsigned char> set_by_seam(world.shell(patch).num_control_points(), 0);
+    for (const scene::model::InterfaceSpec& spec : model_.interfaces) {
+      const coupling::Interface& c = spec.coupling;
+      auto mark = [&](int owner, const std::vector<int>& points) {
+        if (static_cast<size_t>(owner) == patch)
+          for (int k : points) set_by_seam[static_cast<size_t>(k)] = 1;
+      };
+      for (const auto* rows : {&c.leader_row1, &c.leader_row2, &spec.leader_neighbours}) mark(c.leader_patch, *rows);
+      for (const auto* rows : {&c.follower_row1, &c.follower_row2, &spec.follower_neighbours}) mark(c.follower_patch, *rows);
+    }
+    const shell::ShellPatch& p = world.shell(patch);
+    for (size_t cell = 0; cell < p.num_cells(); ++cell) {
+      const int* ids = p.support(cell);
+      if (std::any_of(ids, ids + p.support_size(), [&](int k) { return set_by_seam[static_cast<size_t>(k)] != 0; }))
+        shear_near_seam_[patch].push_back(cell);
+    }
+  }
   // Seams that set another seam's leader rows go first (Kahn's order; a cycle keeps the scene order).
   auto sets_leader_of = [&](size_t j, size_t i) {
     const coupling::Interface& a = model_.interfaces[j].coupling;

@@ -69,6 +69,9 @@ class SeamSystem {
   // passes on the rows as they end up.
   std::vector<size_t> order_;
   std::vector<std::vector<Eigen::Vector3d>> start_positions_;  // x^n of coupled patches
+  // Per patch: the cells whose shear particle follows a control point the coupling stage sets or
+  // corrects; they drop their affine velocity with it.
+  std::vector<std::vector<size_t>> shear_near_seam_;
   std::vector<Eigen::Vector3d> node_scratch_;  // momentum correction per grid node, zero between uses
   std::vector<unsigned char> node_touched_;
 };

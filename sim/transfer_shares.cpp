@@ -82,13 +82,18 @@ bool damaged_or_cracked(const shell::ShellPatch& patch) {
 void TransferShares::set_pic(World& world, size_t shell, bool pic) {
   turned_[shell] = pic;
   mpm::ParticleSet& control = world.particle_sets()[world.control_set(shell)];
+  mpm::ParticleSet& shear = world.particle_sets()[world.shear_set(shell)];
   std::vector<Eigen::Matrix3d>& affine = world.affine(shell);
+  std::vector<Eigen::Matrix3d>& shear_affine = world.shear_affine(shell);
   if (pic) {
     control.affine = nullptr;  // p2g reads no affine velocity and g2p writes none
+    shear.affine = nullptr;
   } else if (!affine.empty()) {
     // Back to APIC/affine-FLIP: the affine velocities left from before the PIC spell are stale.
     std::fill(affine.begin(), affine.end(), Eigen::Matrix3d::Zero());
+    std::fill(shear_affine.begin(), shear_affine.end(), Eigen::Matrix3d::Zero());
     control.affine = affine.data();
+    shear.affine = shear_affine.data();
   }
 }
 

@@ -60,6 +60,7 @@ World::World(const scene::Model& model) {
     // otherwise): no affine velocity and no FLIP part.
     const bool pic_shell = model.grid.adaptive && !model.grid.adaptive_shell(s);
     affine_.emplace_back(model.grid.apic && !pic_shell ? patches_.back().x.size() : 0, Eigen::Matrix3d::Zero());
+    shear_affine_.emplace_back(model.grid.apic && !pic_shell ? patches_.back().shear.x.size() : 0, Eigen::Matrix3d::Zero());
     const bool flip = model.grid.adaptive ? !pic_shell : model.grid.flip > 0;
     flip_part_.emplace_back(flip ? patches_.back().x.size() : 0, Eigen::Vector3d::Zero());
     shell_names_.push_back(s.name);
@@ -109,6 +110,8 @@ World::World(const scene::Model& model) {
     shear.mass = p.shear.mass.data();
     shear.stress = p.shear.stress.data();
     shear.velocity_gradient = p.shear.velocity_gradient.data();
+    shear.affine = shear_affine_[i].empty() ? nullptr : shear_affine_[i].data();
+    shear.rigid_affine = true;
     shear.flip = model.grid.flip;
     shear_set_.push_back(sets_.size());
     layout_.push_back({SetKind::ShearParticles, i});

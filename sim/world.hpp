@@ -47,6 +47,8 @@ class World {
   const std::vector<double>& transfer_mass(size_t shell) const { return transfer_mass_[shell]; }
   // APIC affine velocities of the control points (empty for PIC).
   std::vector<Eigen::Matrix3d>& affine(size_t shell) { return affine_[shell]; }
+  // Affine velocities of the shear particles, of which they keep the rotational part (RPIC; empty for PIC).
+  std::vector<Eigen::Matrix3d>& shear_affine(size_t shell) { return shear_affine_[shell]; }
   // FLIP part r_p delta_p of each control point's velocity from the last g2p (empty unless the transfer
   // has a FLIP share): control points advect with v_p minus it (Simulation::stage_g2p).
   const std::vector<Eigen::Vector3d>& flip_part(size_t shell) const { return flip_part_[shell]; }
@@ -78,6 +80,7 @@ class World {
   std::vector<mpm::SolidParticles> solids_;
   std::vector<std::vector<Eigen::Vector3d>> initial_positions_;
   std::vector<std::vector<Eigen::Matrix3d>> affine_;  // APIC C_p per control point
+  std::vector<std::vector<Eigen::Matrix3d>> shear_affine_;  // RPIC C_p per shear particle
   std::vector<std::vector<Eigen::Vector3d>> flip_part_;  // FLIP transfers: r_p delta_p per control point
   std::vector<std::vector<double>> transfer_mass_;    // control point mass, zero where pinned
   std::vector<std::string> shell_names_, solid_names_;

@@ -273,13 +273,11 @@ TEST(Vibration, BreakableBoardSwingsLikeTheIntactOne) {
   EXPECT_TRUE(a_pic.empty() || a_pic[0] < 0.9 * start);
 }
 
-// Known failure (2026-12-04), kept with the criterion: measured 0 turning points in 2.5 s under the
-// default; the hinged part sinks at about 0.1 m/s, as under PIC. The cut shell is not turned, but its
-// control points beside the cut (the MLS supports reach u = 0.35 on this 10-cell board, half of the hinged
-// part) take the active share 0, APIC, which dissipates a thick board's swing as PIC does. With
-// grid.flip_ratio_active 0.99 the same board swings through (x = +0.20 -> -0.17 -> +0.13 m at the probe
-// in 1.2 s).
-TEST(Vibration, DISABLED_TornBoardSwingsOn) {
+// The cut shell is never damaged, so it runs the adaptive shares: affine-FLIP on its intact support, APIC
+// on the control points beside the cut (the MLS supports reach u = 0.35 on this 10-cell board, half of
+// the hinged part), and RPIC on its shear particles. While the shear particles ran PIC (they carried no
+// affine velocity at all) this board sank at about 0.1 m/s and never turned, as under PIC.
+TEST(Vibration, TornBoardSwingsOn) {
   // Issue 27: torn pieces must keep their swing. The same board, cut through across its width at u = 0.6
   // (a torn board whose outer 0.2 m has come off), swings on its hinge as a 0.3 m board. Probed at
   // u = 0.4, whose NURBS support lies on the hinged side. By default (cracking_shells
