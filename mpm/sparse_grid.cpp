@@ -570,7 +570,7 @@ void SparseGrid::transfer_to_particles(const std::vector<ParticleSet>& sets) con
       C.col(0) = inv_d * (st.d0[0] * v + dx_ * Mx);
       C.col(1) = inv_d * (st.d0[1] * v + dx_ * My);
       C.col(2) = inv_d * (st.d0[2] * v + dx_ * Mz);
-      if (s.rigid_affine) C = 0.5 * (C - C.transpose());
+      if (s.rigid_affine) C = (0.5 * (C - C.transpose())).eval();
       s.affine[p] = C;
     }
     if (grad) {
