@@ -87,13 +87,15 @@ std::vector<GhostParticle> impact_ghosts(const Impact& im, const TriMesh& mesh, 
     mean_normal += pa.area * pa.normal;
   }
   if (!(area > 0)) fail("touches only degenerate (zero-area) triangles");
-  if (!(dir.dot(mean_normal) < 0)) {
+  Vec3 push = dir;
+  if (!(dir.dot(mean_normal) < 0) && im.normal_if_outward && mean_normal.norm() > 0) push = -mean_normal.normalized();
+  if (!(push.dot(mean_normal) < 0)) {
     std::ostringstream m;
     m << "direction (" << dir.transpose() << ") points out of the object at (" << im.point.transpose()
       << "); an impact pushes into the surface (against its outward normal (" << mean_normal.normalized().transpose() << "))";
     fail(m.str());
   }
-  const Vec3 total_force = (im.impulse / im.duration) * dir;
+  const Vec3 total_force = (im.impulse / im.duration) * push;
   std::vector<GhostParticle> ghosts;
   for (const Patch& pa : patches) {
     GhostParticle g;

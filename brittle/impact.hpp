@@ -21,6 +21,11 @@ struct Impact {
   // centroid of its part inside; 0 means two particle spacings. The surface's closest point alone if no
   // triangle reaches that close.
   double radius = 0;
+  // A direction that does not point into the surface is an input error, unless this is set: then the
+  // force pushes along the contact patch's inward normal (the thesis's traction I n / (t_c A), Eq. 3.12).
+  // The shatter loop sets it: a rigid contact's mean normal and mean point, summed over several contact
+  // points and steps, can meet a concave or edged fragment where its surface faces another way.
+  bool normal_if_outward = false;
 };
 
 // A ghost particle (thesis Eq. 3.12): a massless point riding with an anchor particle that hands a

@@ -284,6 +284,7 @@ void ShatterLoop::fracture(size_t index, const BodyImpact& impact) {
     load.impulse = impact.impulse;
     load.duration = r.contact_time;
     load.radius = root.impact_radius;
+    load.normal_if_outward = true;
     const std::vector<brittle::GhostParticle> ghosts = brittle::impact_ghosts(load, p.mesh, solid, p.name);
 
     // thesis sec. 3.2: a short fracture run of the body at rest in object space

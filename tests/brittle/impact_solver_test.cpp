@@ -105,6 +105,12 @@ TEST(Impact, BadImpactsAreRefused) {
   Impact outward = im;
   outward.direction = Vec3(0, 0, 1);
   EXPECT_THROW(impact_ghosts(outward, b.mesh, b.solid, "s"), InputError);
+  // The shatter loop's fallback: an outward direction pushes along the patch's inward normal instead,
+  // with the whole force I / t_c (the top face's normal is +z).
+  outward.normal_if_outward = true;
+  Vec3 total = Vec3::Zero();
+  for (const GhostParticle& g : impact_ghosts(outward, b.mesh, b.solid, "s")) total += g.force;
+  EXPECT_LT((total - Vec3(0, 0, -outward.impulse / outward.duration)).norm(), 1e-12 * outward.impulse / outward.duration);
   // Hertz duration for a steel ball on the block: positive and of the order of the Eq. 3.11 scale.
   const double tc = impact_duration(HertzBody{200e9, 0.3, 0.01, 0.03}, b.solid, im.point, 2.0);
   EXPECT_GT(tc, 0.0);
