@@ -195,6 +195,69 @@ TEST(AdaptiveTransfer, MixedSharesKeepLinearMomentumThroughPhantomContact) {
   EXPECT_LE((sim.linear_momentum() - before).norm(), 1e-12 * mass);
 }
 
+// Angular momentum of the particles the grid moves, about the origin: x_p x m_p v_p for control points
+// (their transfer masses: pinned points carry none) and shear particles, plus what their affine
+// velocities carry to the grid, m_p eps : (C_p D)^T with D = dx^2 / 4 I for quadratic B-splines.
+Eigen::Vector3d angular_momentum(Simulation& sim) {
+  const World& w = sim.world();
+  const double d = 0.25 * sim.dx() * sim.dx();
+  auto affine_part = [&](double m, const Eigen::Matrix3d& C) {
+    return Eigen::Vector3d(m * d * (C(2, 1) - C(1, 2)), m * d * (C(0, 2) - C(2, 0)), m * d * (C(1, 0) - C(0, 1)));
+  };
+  Eigen::Vector3d L = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < w.num_shells(); ++i) {
+    const shell::ShellPatch& p = w.shell(i);
+    const mpm::ParticleSet& control = w.particle_sets()[w.control_set(i)];
+    const mpm::ParticleSet& shear = w.particle_sets()[w.shear_set(i)];
+    for (size_t k = 0; k < p.x.size(); ++k) {
+      L += control.mass[k] * p.x[k].cross(p.v[k]);
+      if (control.affine) L += affine_part(control.mass[k], control.affine[k]);
+    }
+    for (size_t c = 0; c < p.shear.x.size(); ++c) {
+      L += p.shear.mass[c] * p.shear.x[c].cross(p.shear.v[c]);
+      if (shear.affine) L += affine_part(p.shear.mass[c], shear.affine[c]);
+    }
+  }
+  return L;
+}
+
+// A pre-cut sheet spinning apart in free flight (no gravity, no pins), 400 steps at half the stable step;
+// returns the relative change of linear momentum (against the momentum scale m |omega| size) and of
+// angular momentum over the run, and prints both.
+std::pair<double, double> spinning_cut_sheet(const std::string& grid) {
+  Simulation sim(scene::build_model(half_cut_sheet(grid), "cut.json"));
+  const shell::ShellPatch& p = sim.world().shell(0);
+  const auto x = sim.positions(0), v = sim.velocities(0), shear_v = sim.shear_velocities(0);
+  const Eigen::Vector3d omega(0.5, -0.3, 4.0), spin_centre(0.2, 0.1, 0);
+  for (size_t k = 0; k < x.size(); ++k) v[k] = omega.cross(x[k] - spin_centre);
+  for (size_t c = 0; c < p.shear.x.size(); ++c) shear_v[c] = omega.cross(p.shear.x[c] - spin_centre);
+  sim.step(0.5 * sim.stable_dt());  // the first g2p sets the affine velocities
+  const Eigen::Vector3d p0 = sim.linear_momentum(), L0 = angular_momentum(sim);
+  for (int s = 0; s < 400; ++s) sim.step(0.5 * sim.stable_dt());
+  const double mass = 200 * 0.001 * 0.4 * 0.2, scale = mass * omega.norm() * 0.4;
+  const double dp = (sim.linear_momentum() - p0).norm() / scale, dL = (angular_momentum(sim) - L0).norm() / L0.norm();
+  std::printf("spinning cut sheet (%s): |dp| / (m |omega| L) %.3e, |dL| / |L0| %.3e (|L0| %.4e)\n",
+              grid.empty() ? "default" : grid.c_str(), dp, dL, L0.norm());
+  return {dp, dL};
+}
+
+// Issue 27's validation, linear part: through the cut and the phantom contact of its two halves the
+// linear momentum is kept to 1e-10 under the default, APIC and PIC (measured about 1e-16).
+TEST(AdaptiveTransfer, SpinningCutSheetKeepsLinearMomentum) {
+  for (const std::string grid : {"", R"("grid": {"transfer": "apic"},)", R"("grid": {"transfer": "pic"},)"})
+    EXPECT_LE(spinning_cut_sheet(grid).first, 1e-10) << grid;
+}
+
+// Known failure (2026-12-06), kept with issue 27's criterion: angular momentum to 1e-10 relative.
+// Measured over the 400 steps: 4.3e-3 under the default (the FLIP share of the intact control points
+// carries a part of each velocity the grid never sees, and adding the mean residual back to the
+// dissipating particles keeps linear momentum, not angular), 3.0e-6 under APIC (not traced yet; the shear
+// particles, placed on the surface by thesis Eq. 4.10 instead of advected, are one candidate), and 1.00 under
+// PIC, which stops the spin.
+TEST(AdaptiveTransfer, DISABLED_SpinningCutSheetKeepsAngularMomentum) {
+  EXPECT_LE(spinning_cut_sheet("").second, 1e-10);
+}
+
 TEST(AdaptiveTransfer, DrapeOverABallGainsNoEnergy) {
   // A 1 m cloth (10 x 20 cells, t = 0.5 mm) dropped onto a ball, no damping: an intact elastic drape, so its
   // control points run affine-FLIP with share 1. The colliders are at rest and can only take energy away,
