@@ -147,4 +147,56 @@ void project_particles(std::vector<Vec3>& x, std::vector<Vec3>& v, const std::ve
   });
 }
 
+namespace {
+
+// Sums f(i) over [0, n) in fixed ranges of `grain` in parallel, then the ranges in order.
+template <class F>
+ContactImpulse ordered_sum(size_t n, size_t grain, F f) {
+  std::vector<ContactImpulse> part((n + grain - 1) / grain);
+  tbb::parallel_for(size_t{0}, part.size(), [&](size_t r) {
+    for (size_t i = r * grain; i < std::min(n, (r + 1) * grain); ++i) part[r] += f(i);
+  });
+  ContactImpulse total;
+  for (const ContactImpulse& c : part) total += c;
+  return total;
+}
+
+}  // namespace
+
+ContactImpulse apply_collider(SparseGrid& grid, const Collider& col, double t, const Vec3& about) {
+  const Eigen::Isometry3d inverse_pose = col.motion.pose(t).inverse();
+  return ordered_sum(grid.num_nodes(), 512, [&](size_t n) {
+    ContactImpulse out;
+    const double m = grid.node_mass(n);
+    if (m <= 0) return out;
+    const Vec3 x = grid.node_position(n);
+    const Vec3 local = inverse_pose * x;
+    if (col.shape->signed_distance(local) > 0) return out;
+    const Vec3 normal = inverse_pose.linear().transpose() * col.shape->normal(local);
+    const Vec3 before = grid.node_velocity(n);
+    grid.node_velocity(n) = collide_velocity(before, col.motion.velocity_at(x, t), normal, col.boundary, col.friction);
+    out.linear = m * (grid.node_velocity(n) - before);
+    out.angular = (x - about).cross(out.linear);
+    return out;
+  });
+}
+
+ContactImpulse project_particles(std::vector<Vec3>& x, std::vector<Vec3>& v, const double* mass, const Collider& col,
+                                 double t, const Vec3& about) {
+  const Eigen::Isometry3d pose = col.motion.pose(t), inverse_pose = pose.inverse();
+  return ordered_sum(x.size(), 256, [&](size_t p) {
+    ContactImpulse out;
+    const Vec3 local = inverse_pose * x[p];
+    const double phi = col.shape->signed_distance(local);
+    if (phi >= 0) return out;
+    const Vec3 normal = pose.linear() * col.shape->normal(local);
+    x[p] -= phi * normal;
+    const Vec3 before = v[p];
+    v[p] = collide_velocity(before, col.motion.velocity_at(x[p], t), normal, col.boundary, col.friction);
+    out.linear = mass[p] * (v[p] - before);
+    out.angular = (x[p] - about).cross(out.linear);
+    return out;
+  });
+}
+
 }  // namespace shellfrac::mpm

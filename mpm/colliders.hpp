@@ -98,4 +98,25 @@ void apply_colliders(SparseGrid& grid, const std::vector<Collider>& colliders, d
 // sink up to about a cell into a collider; this keeps the advected particles outside.
 void project_particles(std::vector<Vec3>& x, std::vector<Vec3>& v, const std::vector<Collider>& colliders, double t);
 
+// Momentum a collider gave the material, and its moment about a point: what a dynamic collider (a rigid
+// body) must lose in return.
+struct ContactImpulse {
+  Vec3 linear = Vec3::Zero();
+  Vec3 angular = Vec3::Zero();
+  ContactImpulse& operator+=(const ContactImpulse& o) {
+    linear += o.linear;
+    angular += o.angular;
+    return *this;
+  }
+};
+
+// One collider on the grid nodes, as apply_colliders does, returning sum m_i (v_i' - v_i) and its moment
+// sum (x_i - about) x m_i (v_i' - v_i). Summed in fixed node ranges, then in order: the same for any
+// thread count.
+ContactImpulse apply_collider(SparseGrid& grid, const Collider& collider, double t, const Vec3& about);
+// One collider on advected particles of masses `mass`, as project_particles does, returning the momentum
+// it gave them and its moment about `about` (at their projected positions).
+ContactImpulse project_particles(std::vector<Vec3>& x, std::vector<Vec3>& v, const double* mass, const Collider& collider,
+                                 double t, const Vec3& about);
+
 }  // namespace shellfrac::mpm

@@ -103,6 +103,8 @@ Model build(const Scene& input) {
   }
   for (const model::BrittleBody& body : m.brittle_solids)
     if (body.rigid && !m.rigid) m.rigid = detail::build_rigid_world(b, scene.rigid);
+  // Projectiles without breakable bodies strike the MPM material only (sim/shatter_system.hpp).
+  if (!m.rigid && scene.rigid && !scene.rigid->projectiles.empty()) m.rigid = detail::build_rigid_world(b, scene.rigid);
   for (size_t i = 0; i < scene.colliders.size(); ++i)
     m.colliders.push_back(detail::build_collider(b, scene.colliders[i], i));
   for (size_t i = 0; i < scene.pins.size(); ++i) m.pins.push_back(detail::build_pin(b, scene.pins[i], i, m.shells));

@@ -590,7 +590,10 @@ void describe(V& v, Scene& s) {
   v.check("rigid", [&] {
     bool bodies = false;
     for (const Solid& solid : s.solids) bodies = bodies || solid.rigid_body.has_value();
-    if (s.rigid && !bodies) return "\"rigid\" sets up the shatter loop: give a brittle solid a \"rigid_body\" object";
+    const bool strikes = s.rigid && !s.rigid->projectiles.empty() && (!s.shells.empty() || !s.solids.empty());
+    if (s.rigid && !bodies && !strikes)
+      return "\"rigid\" sets up the shatter loop: give a brittle solid a \"rigid_body\" object, or give "
+             "\"rigid\" \"projectiles\" to strike the shells";
     if (bodies && !s.colliders.empty())
       return "colliders act on MPM particles; the rigid bodies' ground is \"rigid\".\"ground\"";
     return "";

@@ -215,6 +215,9 @@ void Simulation::stage_grid_update(double dt) {
     tbb::parallel_for(size_t{0}, grid_.num_nodes(), [&](size_t n) { grid_.node_velocity(n) *= keep; });
   }
   mpm::apply_colliders(grid_, colliders_, time_ + dt);
+  for (size_t k = 0; k < shatter_.num_strikers(); ++k)  // projectiles of the rigid world (sec. 4.10.7)
+    if (const mpm::Collider* c = shatter_.striker(k, time_ + dt))
+      shatter_.add_contact(k, mpm::apply_collider(grid_, *c, 0.0, shatter_.striker_centre(k)));
   if (cracks_.has_phantoms()) {  // fragments meeting at phantom copies (thesis sec. 4.7.2)
     const mpm::ContactStats c =
         mpm::resolve_phantom_contact(grid_, cracks_.phantoms().copy_kind, dt, model_.cracks.contact_friction);
@@ -246,11 +249,18 @@ void Simulation::stage_g2p(double dt) {
     else
       tbb::parallel_for(size_t{0}, p.x.size(), [&](size_t k) { p.x[k] += dt * (p.v[k] - flip_part[k]); });
     mpm::project_particles(p.x, p.v, colliders_, time_ + dt);
+    for (size_t k = 0; k < shatter_.num_strikers(); ++k)
+      if (const mpm::Collider* c = shatter_.striker(k, time_ + dt))
+        shatter_.add_contact(k, mpm::project_particles(p.x, p.v, world_.transfer_mass(i).data(), *c, 0.0,
+                                                       shatter_.striker_centre(k)));
   }
   for (size_t k = 0; k < world_.num_solids(); ++k) {
     mpm::SolidParticles& solid = world_.solid(k);
     solid.update(dt);
     mpm::project_particles(solid.x, solid.v, colliders_, time_ + dt);
+    for (size_t j = 0; j < shatter_.num_strikers(); ++j)
+      if (const mpm::Collider* c = shatter_.striker(j, time_ + dt))
+        shatter_.add_contact(j, mpm::project_particles(solid.x, solid.v, solid.mass.data(), *c, 0.0, shatter_.striker_centre(j)));
   }
   pins_.hold_positions(world_, time_ + dt);
   for (auto& r : pin_reaction_) r.setZero();
@@ -275,7 +285,10 @@ void Simulation::stage_cracks(double) {
   }
 }
 
-void Simulation::stage_rigid(double dt) { shatter_.advance_to(time_ + dt); }
+void Simulation::stage_rigid(double dt) {
+  shatter_.take_contacts();  // what the projectiles gave the MPM material this step, before they move on
+  shatter_.advance_to(time_ + dt);
+}
 
 void Simulation::stage_brittle(double dt) {
   if (!brittle_.empty()) brittle_.advance_to(time_ + dt);

@@ -112,6 +112,17 @@ def check_scene_criteria(name, summary):
                  % (name, m["strand_area"], m["strand_faces"]))
     elif name == "cloth-two-balls":
         bt.check(m["max_edge_stretch"] <= 3.0, "%s: max edge stretch %g, expected at most 3" % (name, m["max_edge_stretch"]))
+    elif name == "glass-pane-ball":
+        # A ball of the rigid world strikes the pane's centre (thesis Fig. 4.29): at least three pieces, and
+        # cracks that start at the impact point and run out radially into all four quadrants.
+        bt.check(m["pieces"] >= 3, "%s: %d pieces, expected at least 3" % (name, m["pieces"]))
+        vertices = summary["crack_graphs"][0]["vertices"]
+        gap = min(math.dist((0.5, 0.5), v) for v in vertices)
+        bt.check(gap <= 0.05, "%s: the nearest crack vertex is %.3f from the impact point (0.5, 0.5) in the parameter "
+                 "plane, expected within 0.05 (1.6 cells)" % (name, gap))
+        quadrants = {(v[0] > 0.5, v[1] > 0.5) for v in vertices if math.dist((0.5, 0.5), v) > 0.2}
+        bt.check(len(quadrants) == 4, "%s: cracks reach 0.2 from the impact point in %d of 4 quadrants"
+                 % (name, len(quadrants)))
     elif name == "plate-pressure":
         # Run to EXTENDED_END[name] (three times the shipped end): four cracks from the centre to the corners
         # (thesis Fig. 4.19c) cut the plate into four large pieces, and the run does not diverge.
