@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "nurbs/degree_elevation.hpp"
 #include "nurbs/detail.hpp"
 #include "nurbs/knot_insertion.hpp"
 #include "nurbs/nurbs_error.hpp"
@@ -48,26 +49,41 @@ double quadratic_greville(int i, int cells) {
   return static_cast<double>(2 * i - 1) / (2.0 * cells);
 }
 
+// Greville abscissa of basis function i of an open uniform knot vector on [0, 1] (the quadratic case in
+// the closed form above, which earlier runs were computed with).
+double greville(const KnotVector& k, int i, int cells) {
+  return k.degree() == 2 ? quadratic_greville(i, cells) : k.greville(i);
+}
+
+void check_degree(int degree, int lowest, const std::string& who, const std::string& name) {
+  if (degree < lowest || degree > 7)
+    throw NurbsError(who + ": " + name + " = " + std::to_string(degree) + " is invalid; it must be in [" +
+                     std::to_string(lowest) + ", 7]");
+}
+
 }  // namespace
 
-NurbsSurface flat_patch(double size_u, double size_v, int cells_u, int cells_v, const Frame& frame) {
+NurbsSurface flat_patch(double size_u, double size_v, int cells_u, int cells_v, const Frame& frame, int degree_u,
+                        int degree_v) {
   const std::string who = "flat patch";
   check_positive(size_u, who, "size_u");
   check_positive(size_v, who, "size_v");
   check_cells(cells_u, who, "cells_u");
   check_cells(cells_v, who, "cells_v");
   check_frame(frame, who);
+  check_degree(degree_u, 1, who, "degree_u");
+  check_degree(degree_v, 1, who, "degree_v");
 
-  KnotVector ku = KnotVector::open_uniform(2, cells_u);
-  KnotVector kv = KnotVector::open_uniform(2, cells_v);
-  const int nu = cells_u + 2;
-  const int nv = cells_v + 2;
+  KnotVector ku = KnotVector::open_uniform(degree_u, cells_u);
+  KnotVector kv = KnotVector::open_uniform(degree_v, cells_v);
+  const int nu = ku.num_basis();
+  const int nv = kv.num_basis();
   Vec3List points;
   points.reserve(static_cast<std::size_t>(nu * nv));
   for (int j = 0; j < nv; ++j) {
-    const double t = quadratic_greville(j, cells_v) * size_v;
+    const double t = greville(kv, j, cells_v) * size_v;
     for (int i = 0; i < nu; ++i) {
-      const double s = quadratic_greville(i, cells_u) * size_u;
+      const double s = greville(ku, i, cells_u) * size_u;
       points.push_back(frame.origin + s * frame.axis_u + t * frame.axis_v);
     }
   }
@@ -76,7 +92,7 @@ NurbsSurface flat_patch(double size_u, double size_v, int cells_u, int cells_v, 
 }
 
 NurbsSurface cone_segment(double r0, double r1, double height, double sweep, int cells_u, int cells_v,
-                          const Frame& frame) {
+                          const Frame& frame, int degree_u, int degree_v) {
   const std::string who = "cone segment";
   if (!std::isfinite(r0) || !std::isfinite(r1) || r0 < 0.0 || r1 < 0.0 || (r0 == 0.0 && r1 == 0.0)) {
     throw NurbsError(who + ": radii r0 = " + format_number(r0) + ", r1 = " + format_number(r1) +
@@ -88,9 +104,11 @@ NurbsSurface cone_segment(double r0, double r1, double height, double sweep, int
   }
   check_cells(cells_v, who, "cells_v");
   check_frame(frame, who);
+  check_degree(degree_u, 2, who, "degree_u");  // a circle needs a rational quadratic at least
+  check_degree(degree_v, 1, who, "degree_v");
 
-  // Unit arc in its own xy-plane, split into pieces of at most 90 degrees.
-  const NurbsCurve arc = circular_arc(1.0, 0.0, sweep);
+  // Unit arc in its own xy-plane, split into pieces of at most 90 degrees, at the requested degree.
+  const NurbsCurve arc = degree_u == 2 ? circular_arc(1.0, 0.0, sweep) : elevate_degree(circular_arc(1.0, 0.0, sweep), degree_u - 2);
   const int pieces = arc.knots().num_spans();
   if (cells_u < pieces) {
     throw NurbsError(who + ": cells_u = " + std::to_string(cells_u) + " is too small; a sweep of " +
@@ -110,16 +128,16 @@ NurbsSurface cone_segment(double r0, double r1, double height, double sweep, int
   // Circle point (x, y) maps to x axis_u + y (axis_v x axis_u), so du x dv points away from the axis.
   const Vec3 axis = frame.axis_v;
   const Vec3 side = frame.axis_v.cross(frame.axis_u);
-  KnotVector kv = KnotVector::open_uniform(2, cells_v);
+  KnotVector kv = KnotVector::open_uniform(degree_v, cells_v);
   const int nu = ring.knots().num_basis();
-  const int nv = cells_v + 2;
+  const int nv = kv.num_basis();
   Vec3List points;
   std::vector<double> weights;
   points.reserve(static_cast<std::size_t>(nu * nv));
   weights.reserve(static_cast<std::size_t>(nu * nv));
   for (int j = 0; j < nv; ++j) {
     // Rows at the Greville heights; radius and height linear in t, hence exact in v (linear precision).
-    const double t = quadratic_greville(j, cells_v);
+    const double t = greville(kv, j, cells_v);
     const double radius = r0 + t * (r1 - r0);
     const Vec3 centre = frame.origin + (t * height) * axis;
     for (int i = 0; i < nu; ++i) {

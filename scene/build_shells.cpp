@@ -1,9 +1,11 @@
 // Shells of a scene: NURBS patches from the built-in shapes or an explicit control net, materials with
 // their defaults, quadrature, and prescribed cuts checked against the patch's parameter domain.
+#include <algorithm>
 #include <cmath>
 
 #include "core/constants.hpp"
 #include "crack2d/prescribed_cut.hpp"
+#include "nurbs/degree_elevation.hpp"
 #include "nurbs/knot_insertion.hpp"
 #include "nurbs/nurbs_error.hpp"
 #include "nurbs/patch_builders.hpp"
@@ -57,6 +59,13 @@ nurbs::NurbsSurface control_net(const Builder& b, const Patch& p, const std::str
       b.fail(path, e.what());
     }
   }();
+  if (p.elevate && ((*p.elevate)[0] > 0 || (*p.elevate)[1] > 0)) {
+    try {
+      surface = nurbs::elevate_degree(surface, (*p.elevate)[0], (*p.elevate)[1]);
+    } catch (const nurbs::NurbsError& e) {
+      b.fail(path + "/elevate", e.what());
+    }
+  }
   if (refine[0] == 1 && refine[1] == 1) return surface;
   // Split every non-empty span into `refine` equal parts by knot insertion (geometry unchanged).
   auto splits = [](const nurbs::KnotVector& k, int parts) {
@@ -119,12 +128,15 @@ model::Material material_of(const Material& m) {
 
 nurbs::NurbsSurface patch_surface(const Builder& b, const Patch& p, const std::string& path) {
   try {
-    if (p.type == "flat") return nurbs::flat_patch((*p.size)[0], (*p.size)[1], (*p.cells)[0], (*p.cells)[1], frame_of(p));
+    const Int2 degree = p.type == "control_net" ? Int2{2, 2} : p.degree.value_or(Int2{2, 2});
+    if (p.type == "flat")
+      return nurbs::flat_patch((*p.size)[0], (*p.size)[1], (*p.cells)[0], (*p.cells)[1], frame_of(p), degree[0], degree[1]);
     if (p.type == "cylinder")
-      return nurbs::cylinder_segment(*p.radius, *p.height, sweep_of(p), (*p.cells)[0], (*p.cells)[1], frame_of(p));
+      return nurbs::cylinder_segment(*p.radius, *p.height, sweep_of(p), (*p.cells)[0], (*p.cells)[1], frame_of(p),
+                                     degree[0], degree[1]);
     if (p.type == "cone")
       return nurbs::cone_segment(*p.radius_bottom, *p.radius_top, *p.height, sweep_of(p), (*p.cells)[0], (*p.cells)[1],
-                                 frame_of(p));
+                                 frame_of(p), degree[0], degree[1]);
     return control_net(b, p, path);
   } catch (const nurbs::NurbsError& e) {
     b.fail(path, e.what());
@@ -135,7 +147,9 @@ model::Shell build_shell(const Builder& b, const Shell& s, size_t index) {
   const std::string path = index_path("/shells", index);
   nurbs::NurbsSurface surface = patch_surface(b, *s.patch, path + "/patch");
   shell::QuadratureRule quadrature;
-  quadrature.points_per_direction = s.quadrature.points.value_or(quadrature.points_per_direction);
+  // Gauss points per direction: 4 by default, and p + 1 for degrees above 3.
+  const int degree = std::max(surface.knots_u().degree(), surface.knots_v().degree());
+  quadrature.points_per_direction = s.quadrature.points.value_or(std::max(quadrature.points_per_direction, degree + 1));
   quadrature.layers = s.quadrature.layers.value_or(quadrature.layers);
   const crack2d::Box domain{{surface.knots_u().domain_begin(), surface.knots_v().domain_begin()},
                             {surface.knots_u().domain_end(), surface.knots_v().domain_end()}};

@@ -42,6 +42,10 @@ void describe(V& v, Patch& p) {
   v.choice("type", p.type, {"flat", "cylinder", "cone", "control_net"}, kRequired);
   if (!p.type) return;
   const std::string& type = *p.type;
+  // Built-in shapes: the spline degree per direction (k-refinement, nurbs/patch_builders.hpp). The shell
+  // solver keeps each point's (p+1)(q+1) basis functions on the stack, at most 64 (shell/shell_patch.cpp,
+  // kMaxSupport): degree 7 in both directions; Kirchhoff-Love bending needs degree 2 at least.
+  if (type != "control_net") v.integers("degree", p.degree, Range::closed(2, 7));
   if (type == "flat") {
     v.numbers("size", p.size, Range::positive(), kRequired);
     v.integers("cells", p.cells, kCells, kRequired);
@@ -69,6 +73,13 @@ void describe(V& v, Patch& p) {
     v.points3("control_points", p.control_points, kRequired);
     v.number_list("weights", p.weights, 0, Range::positive());
     v.integers("refine", p.refine, Range::closed(1, 64));
+    // Degree elevation before the refinement: elevate then refine is k-refinement.
+    v.integers("elevate", p.elevate, Range::closed(0, 6));
+    v.check("elevate", [&] {
+      return p.degree && p.elevate && ((*p.degree)[0] + (*p.elevate)[0] > 7 || (*p.degree)[1] + (*p.elevate)[1] > 7)
+                 ? "degree + elevate must stay at most 7 in each direction (the shell solver's limit)"
+                 : "";
+    });
   }
 }
 
@@ -118,7 +129,7 @@ void describe(V& v, Material& m) {
 
 template <class V>
 void describe(V& v, Quadrature& q) {
-  v.integer("points", q.points, Range::closed(1, 5));
+  v.integer("points", q.points, Range::closed(1, 8));
   v.integer("layers", q.layers, Range::closed(1, 3));
   v.check("layers", [&] { return q.layers == 2 ? "layers must be 1 (membrane only) or 3 (lower, mid, upper)" : ""; });
 }

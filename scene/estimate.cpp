@@ -78,6 +78,7 @@ int knot_spans(const std::vector<double>& k, int degree) {
 // What the estimate needs of one shell.
 struct ShellSize {
   double control_points = 0, cells = 0, support = 9, area = 0, thickness = 0;
+  int degree = 2;  // the larger of the two directions
   Box box;
   std::string count_path;  // cells or refine
 };
@@ -90,13 +91,15 @@ ShellSize shell_size(const Shell& s, size_t i) {
   const Eigen::Vector3d origin = p.origin ? vec(*p.origin) : Eigen::Vector3d::Zero();
   if (p.type == "control_net") {
     const int du = (*p.degree)[0], dv = (*p.degree)[1];
-    const Int2 refine = p.refine.value_or(Int2{1, 1});
+    const Int2 refine = p.refine.value_or(Int2{1, 1}), elevate = p.elevate.value_or(Int2{0, 0});
     const double su = knot_spans(*p.knots_u, du), sv = knot_spans(*p.knots_v, dv);
-    const double nu = std::max(0.0, static_cast<double>(p.knots_u->size()) - du - 1) + (refine[0] - 1) * su;
-    const double nv = std::max(0.0, static_cast<double>(p.knots_v->size()) - dv - 1) + (refine[1] - 1) * sv;
+    // Elevation by t adds t control points per span (each breakpoint's multiplicity and the ends grow by t).
+    const double nu = std::max(0.0, static_cast<double>(p.knots_u->size()) - du - 1) + (refine[0] - 1) * su + elevate[0] * su;
+    const double nv = std::max(0.0, static_cast<double>(p.knots_v->size()) - dv - 1) + (refine[1] - 1) * sv + elevate[1] * sv;
     out.control_points = nu * nv;
     out.cells = su * refine[0] * sv * refine[1];
-    out.support = (du + 1.0) * (dv + 1.0);
+    out.degree = std::max(du + elevate[0], dv + elevate[1]);
+    out.support = (du + elevate[0] + 1.0) * (dv + elevate[1] + 1.0);
     const auto& pts = *p.control_points;
     for (const Vec3& c : pts) out.box.add(vec(c));
     // The control polygon's area bounds the surface's from above for the nets scenes use.
@@ -111,10 +114,13 @@ ShellSize shell_size(const Shell& s, size_t i) {
     return out;
   }
   const double cu = (*p.cells)[0], cv = (*p.cells)[1];
+  const Int2 degree = p.degree.value_or(Int2{2, 2});
   out.cells = cu * cv;
   out.count_path = path + "/cells";
+  out.degree = std::max(degree[0], degree[1]);
+  out.support = (degree[0] + 1.0) * (degree[1] + 1.0);
   if (p.type == "flat") {
-    out.control_points = (cu + 2) * (cv + 2);
+    out.control_points = (cu + degree[0]) * (cv + degree[1]);
     out.area = (*p.size)[0] * (*p.size)[1];
     out.box.add(origin - Eigen::Vector3d::Constant((*p.size)[0] + (*p.size)[1]));
     out.box.add(origin + Eigen::Vector3d::Constant((*p.size)[0] + (*p.size)[1]));
@@ -126,7 +132,8 @@ ShellSize shell_size(const Shell& s, size_t i) {
   // The arc is rational quadratic in pieces of at most 90 degrees joined by double knots (2 pieces + 1
   // control points), each further cell adds one (nurbs::cone_segment); the axis is quadratic in cv cells.
   const double pieces = std::ceil(p.sweep_degrees.value_or(360.0) / 90.0 - 1e-10);
-  out.control_points = (cu + pieces + 1) * (cv + 2);
+  // At degree p each piece carries p - 2 more points (the elevated arc), the axis cv + q.
+  out.control_points = (cu + pieces * (degree[0] - 1) + 1) * (cv + degree[1]);
   out.area = 0.5 * (r0 + r1) * sweep * std::hypot(*p.height, r1 - r0);
   const double reach = std::max(r0, r1) + *p.height;
   out.box.add(origin - Eigen::Vector3d::Constant(reach));
@@ -283,7 +290,7 @@ ResourceEstimate estimate_resources(const Scene& input) {
   for (size_t i = 0; i < shells.size(); ++i) {
     const ShellSize& s = shells[i];
     const Shell& in = scene.shells[i];
-    const double points = in.quadrature.points.value_or(4), layers = in.quadrature.layers.value_or(3);
+    const double points = in.quadrature.points.value_or(std::max(4, s.degree + 1)), layers = in.quadrature.layers.value_or(3);
     const double qp = s.cells * points * points * layers;
     const std::string name = "shell \"" + in.name.value_or("shell" + std::to_string(i)) + "\" ";
     e.memory.push_back({name + "control points", s.control_points, s.control_points * kControlPointBytes, s.count_path});

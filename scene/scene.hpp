@@ -28,11 +28,12 @@ struct Patch {
   Opt<double> radius;                           // cylinder
   Opt<double> radius_bottom, radius_top;        // cone
   Opt<double> height, sweep_degrees;            // cylinder, cone
-  Opt<Int2> degree;                             // control_net
+  Opt<Int2> degree;                             // control_net (required); built-in shapes (default 2, 2)
   Opt<std::vector<double>> knots_u, knots_v;    // control_net
   Opt<std::vector<Vec3>> control_points;        // control_net, u running fastest
   Opt<std::vector<double>> weights;             // control_net
   Opt<Int2> refine;                             // control_net
+  Opt<Int2> elevate;                            // control_net: degree elevation before `refine`
 
   static Patch flat(Vec2 size, Int2 cells) {
     Patch p;

@@ -31,8 +31,34 @@ GaussRule gauss_legendre(int n) {
       return {{-b, -a, 0.0, a, b}, {wb, wa, 128.0 / 225.0, wa, wb}};
     }
     default:
-      throw std::invalid_argument("quadrature points per direction must be 1..5, got " + std::to_string(n));
+      break;
   }
+  if (n < 1 || n > 8) throw std::invalid_argument("quadrature points per direction must be 1..8, got " + std::to_string(n));
+  // Six to eight points (degrees 5 to 7): the roots of the Legendre polynomial P_n by Newton from the
+  // usual estimates, w = 2 / ((1 - x^2) P_n'(x)^2).
+  GaussRule g;
+  g.x.assign(static_cast<size_t>(n), 0.0);
+  g.w.assign(static_cast<size_t>(n), 0.0);
+  for (int i = 0; i < (n + 1) / 2; ++i) {
+    double x = std::cos(3.14159265358979323846 * (i + 0.75) / (n + 0.5)), dp = 0;
+    for (int it = 0; it < 100; ++it) {
+      double p0 = 1, p1 = x;  // P_0, P_1, then the three-term recurrence up to P_n
+      for (int k = 2; k <= n; ++k) {
+        const double pk = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
+        p0 = p1;
+        p1 = pk;
+      }
+      dp = n * (x * p1 - p0) / (x * x - 1);
+      const double step = p1 / dp;
+      x -= step;
+      if (std::abs(step) < 1e-16) break;
+    }
+    const double w = 2 / ((1 - x * x) * dp * dp);
+    g.x[static_cast<size_t>(i)] = -x;
+    g.x[static_cast<size_t>(n - 1 - i)] = x;
+    g.w[static_cast<size_t>(i)] = g.w[static_cast<size_t>(n - 1 - i)] = w;
+  }
+  return g;
 }
 
 LayerRule thickness_layers(int layers, double thickness) {

@@ -2,6 +2,7 @@
 // Runs the simply supported plate of tools/vibration.hpp for each transfer, a/t and resolution, writes
 // damping.csv and the chart damping-ratio.png (gnuplot) into the output folder.
 //   shellfrac_damping_study [--out DIR] [--cells 8,16,32] [--ratios 20,100] [--transfers pic,apic,aflip]
+//                           [--degree 2]
 // A transfer may carry its FLIP share ("aflip:1"). Two single measurements print instead of charting:
 //   --free-sheet aflip:1@0.5#0.002%32   energy history of the free bent sheet (share, cfl, amplitude, cells)
 //   --tear aflip:0.99                   whether the sweeps' 16-cell mode-I tear completes with this transfer
@@ -33,6 +34,7 @@ int main(int argc, char** argv) {
   using namespace shellfrac::tools;
   std::filesystem::path out = "docs/benchmarks";
   std::vector<std::string> cells = {"8", "16", "32"}, ratios = {"20", "100"}, transfers = {"pic", "apic", "aflip"};
+  int degree = 2;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string key = argv[i], value = argv[i + 1];
     if (key == "--free-sheet") {  // energy history of the free bent sheet with this transfer
@@ -70,6 +72,7 @@ int main(int argc, char** argv) {
     else if (key == "--cells") cells = split(value);
     else if (key == "--ratios") ratios = split(value);
     else if (key == "--transfers") transfers = split(value);
+    else if (key == "--degree") degree = std::stoi(value);
     else {
       std::cerr << "unknown option " << key << "\n";
       return 2;
@@ -90,6 +93,7 @@ int main(int argc, char** argv) {
         PlateVibrationCase c;
         c.thickness = c.side / std::stod(r);
         c.cells = std::stoi(n);
+        c.degree = degree;
         c.transfer = t;
         const VibrationResult v = simply_supported_plate(c);
         const double h_over_t = c.side / c.cells / c.thickness;

@@ -78,7 +78,7 @@ VibrationResult simply_supported_plate(const PlateVibrationCase& c) {
   const double omega = 2 * kPi * kPi / (a * a) * std::sqrt(D / (c.density * t));
   VibrationResult r;
   r.reference_period = 2 * kPi / omega;
-  const int n = c.cells + 2;  // quadratic: control points per side
+  const int n = c.cells + c.degree;  // control points per side
   std::ostringstream pins;
   bool first = true;
   for (int j = 0; j < n; ++j)
@@ -100,7 +100,7 @@ VibrationResult simply_supported_plate(const PlateVibrationCase& c) {
   js.precision(17);
   js << R"({"name": "ss_plate", "gravity": [0, 0, 0], "time": {"cfl": )" << c.cfl << "}, " << grid_json(c.transfer)
      << R"(, "shells": [{"name": "plate", "patch": {"type": "flat", "size": [)" << a << ',' << a << R"(], "cells": [)"
-     << c.cells << ',' << c.cells << R"(]}, "thickness": )" << t << R"(, "material": {"E": )" << c.youngs_modulus
+     << c.cells << ',' << c.cells << R"(], "degree": [)" << c.degree << ',' << c.degree << R"(]}, "thickness": )" << t << R"(, "material": {"E": )" << c.youngs_modulus
      << R"(, "nu": )" << c.poisson_ratio << R"(, "density": )" << c.density
      << fracture.str() << R"(}}],
      "pins": [{"shell": "plate", "control_points": [)"

@@ -21,6 +21,7 @@ struct PlateVibrationCase {
   double side = 1.0;         // a [m]
   double thickness = 0.01;   // t [m]
   int cells = 16;            // per side
+  int degree = 2;            // spline degree in both directions (patch.degree)
   double youngs_modulus = 1e6, poisson_ratio = 0.3, density = 1000;
   double cfl = 1.0;          // time.cfl
   double periods = 5;        // simulated time in reference periods (a little more is run, see .cpp)

@@ -115,8 +115,11 @@ TEST(FlatPatchValidation, BadSizesCellsAndFrame) {
   EXPECT_NO_THROW(flat_patch(1.0, 1.0, 2, 2, almost));
 }
 
-void check_cone(double r0, double r1, double height, double sweep, int cells_u, int cells_v, const Frame& f) {
-  const NurbsSurface s = cone_segment(r0, r1, height, sweep, cells_u, cells_v, f);
+void check_cone(double r0, double r1, double height, double sweep, int cells_u, int cells_v, const Frame& f,
+                int degree_u = 2, int degree_v = 2) {
+  const NurbsSurface s = cone_segment(r0, r1, height, sweep, cells_u, cells_v, f, degree_u, degree_v);
+  EXPECT_EQ(s.knots_u().degree(), degree_u);
+  EXPECT_EQ(s.knots_v().degree(), degree_v);
   EXPECT_EQ(s.knots_u().num_spans(), cells_u);
   EXPECT_EQ(s.knots_v().num_spans(), cells_v);
   const Vec3 axis = f.axis_v;
@@ -163,6 +166,38 @@ TEST(ConeSegment, ConeRadiusLinearInHeight) {
   check_cone(2.0, 0.5, 3.0, 2 * kPi, 8, 4, Frame{});
   check_cone(0.3, 1.2, 0.5, 1.5 * kPi, 7, 3, tilted_frame());
   check_cone(1.0, 0.0, 1.0, kPi, 6, 5, Frame{});  // apex at the top
+}
+
+TEST(ConeSegment, RaisedDegreesKeepTheExactCone) {
+  // k-refinement: the arc elevated before its cells' knots are inserted; still on the cone to round-off,
+  // C^(p - 1) inside each arc piece (single knots) and with multiplicity p at the piece joints.
+  check_cone(1.5, 1.5, 2.0, 2 * kPi, 8, 3, Frame{}, 3, 3);
+  check_cone(2.0, 0.5, 3.0, 1.5 * kPi, 7, 4, tilted_frame(), 4, 2);
+  check_cone(0.3, 1.2, 0.5, kPi / 3, 5, 2, tilted_frame(), 5, 4);
+  const NurbsSurface s = cylinder_segment(1.0, 1.0, 2 * kPi, 8, 2, Frame{}, 4, 3);
+  EXPECT_EQ(s.knots_u().multiplicity(0.25), 4);  // a joint of the four quarter arcs
+  EXPECT_EQ(s.knots_u().multiplicity(0.125), 1);
+  EXPECT_THAT(error_message([] { cone_segment(1, 1, 1, kPi, 4, 1, Frame{}, 1, 2); }), HasSubstr("degree_u = 1"));
+  EXPECT_THAT(error_message([] { cone_segment(1, 1, 1, kPi, 4, 1, Frame{}, 2, 8); }), HasSubstr("degree_v = 8"));
+}
+
+TEST(FlatPatch, RaisedDegreesAreExactlyLinearWithSimpleKnots) {
+  // Open uniform knots of degree p with control points at their Greville abscissae: the bilinear patch
+  // k-refined, so positions stay linear in (u, v) and second derivatives vanish.
+  const Frame f = tilted_frame();
+  for (const auto& [p, q] : {std::pair{3, 3}, std::pair{4, 2}, std::pair{7, 5}}) {
+    const NurbsSurface s = flat_patch(3.0, 1.7, 6, 5, f, p, q);
+    EXPECT_EQ(s.num_u(), 6 + p);
+    EXPECT_EQ(s.num_v(), 5 + q);
+    EXPECT_EQ(s.knots_u().multiplicity(0.5), 1);
+    for (int a = 0; a <= 30; ++a)
+      for (int b = 0; b <= 30; ++b) {
+        const double u = a / 30.0, v = b / 30.0;
+        const SurfacePoint sp = s.evaluate(u, v);
+        EXPECT_LE((sp.x - (f.origin + (3.0 * u) * f.axis_u + (1.7 * v) * f.axis_v)).norm(), 1e-13 * (1 + f.origin.norm()));
+        EXPECT_LE(sp.duu.norm() + sp.duv.norm() + sp.dvv.norm(), 1e-10);
+      }
+  }
 }
 
 TEST(ConeSegment, CellsDistributedOverArcPieces) {

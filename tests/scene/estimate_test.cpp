@@ -47,6 +47,27 @@ TEST(Estimate, ShellCountsMatchTheBuiltSimulation) {
   }
 }
 
+// Raised degrees: control points of flat, cylinder and cone patches at degrees 3 and 4 (and 5 x 2), a
+// control net elevated and refined, and the default quadrature of p + 1 points per direction above p = 3.
+TEST(Estimate, ShellCountsAtRaisedDegreesMatchTheBuiltSimulation) {
+  for (const std::string& patch :
+       {std::string(R"({"type": "flat", "size": [1, 2], "cells": [5, 7], "degree": [3, 4]})"),
+        std::string(R"({"type": "flat", "size": [1, 2], "cells": [3, 2], "degree": [5, 2]})"),
+        std::string(R"({"type": "cylinder", "radius": 0.3, "height": 1, "cells": [9, 4], "degree": [3, 3]})"),
+        std::string(R"({"type": "cone", "radius_bottom": 0.3, "radius_top": 0.1, "height": 1, "sweep_degrees": 200,
+             "cells": [7, 3], "degree": [4, 2]})"),
+        std::string(R"({"type": "control_net", "degree": [2, 1], "knots_u": [0, 0, 0, 0.5, 1, 1, 1], "knots_v": [0, 0, 1, 1],
+             "control_points": [[0,0,0],[1,0,0],[2,0,0],[3,0,0],[0,1,0],[1,1,0.2],[2,1,0],[3,1,0]], "elevate": [1, 2],
+             "refine": [2, 3]})")}) {
+    const Scene scene = read_scene(sheet_scene(patch), "t");
+    const ResourceEstimate e = estimate_resources(scene);
+    const sim::Simulation sim(build(scene));
+    EXPECT_EQ(count_of(e, "control points"), static_cast<double>(sim.num_control_points())) << patch;
+    EXPECT_EQ(count_of(e, "quadrature points"), static_cast<double>(sim.num_quadrature_points())) << patch;
+    EXPECT_EQ(count_of(e, "shear particles"), static_cast<double>(sim.num_shear_particles())) << patch;
+  }
+}
+
 TEST(Estimate, StepMatchesTheSimulationsStabilityBound) {
   // A flat sheet: the cell size sqrt(area / cells) and the wave speed are those of sim::Simulation, so
   // the estimated step is cfl x the elastic-wave bound to rounding.

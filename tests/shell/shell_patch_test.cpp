@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <random>
 
 #include "nurbs/patch_builders.hpp"
+#include "shell/quadrature.hpp"
 
 namespace shellfrac::shell {
 namespace {
@@ -247,6 +249,31 @@ TEST(ShellPatch, RunawayStretchIsReportedNotComputed) {
   EXPECT_NE(f.reason.find("more than 1000 times its area in cell"), std::string::npos) << f.reason;
   for (auto& x : p.x) x *= 30.0 / 40.0;  // area ratio 900: still a (huge) deformation, computed
   EXPECT_FALSE(p.compute_forces().failed);
+}
+
+}  // namespace
+}  // namespace shellfrac::shell
+
+namespace shellfrac::shell {
+namespace {
+
+// Gauss-Legendre rules of 1 to 8 points integrate x^k over [-1, 1] exactly for k <= 2n - 1 (the rules of
+// six to eight points are computed by Newton on P_n), and are refused beyond 8.
+TEST(GaussLegendre, RulesIntegratePolynomialsOfDegreeTwoNMinusOneExactly) {
+  for (int n = 1; n <= 8; ++n) {
+    const GaussRule g = gauss_legendre(n);
+    ASSERT_EQ(g.x.size(), static_cast<size_t>(n));
+    for (int k = 0; k <= 2 * n - 1; ++k) {
+      double sum = 0;
+      for (int i = 0; i < n; ++i) sum += g.w[static_cast<size_t>(i)] * std::pow(g.x[static_cast<size_t>(i)], k);
+      const double exact = k % 2 ? 0.0 : 2.0 / (k + 1);
+      EXPECT_NEAR(sum, exact, 1e-14) << n << " points, x^" << k;
+    }
+    double beyond = 0;  // and not x^2n: the rule is not exact beyond its order
+    for (int i = 0; i < n; ++i) beyond += g.w[static_cast<size_t>(i)] * std::pow(g.x[static_cast<size_t>(i)], 2 * n);
+    EXPECT_GT(std::abs(beyond - 2.0 / (2 * n + 1)), 1e-6) << n;
+  }
+  EXPECT_THROW(gauss_legendre(9), std::invalid_argument);
 }
 
 }  // namespace
