@@ -70,6 +70,12 @@ TEST_P(SceneValidation, RejectsWithPathAndReason) {
 }
 
 const BadCase kBadCases[] = {
+    {"flat_degree_one", "/shells/0/patch/degree", "[1, 2]", "/shells/0/patch/degree/0", "out of range"},
+    {"cone_degree_eight", "/shells/2/patch/degree", "[3, 8]", "/shells/2/patch/degree/1", "out of range"},
+    {"elevate_past_seven", "/shells/1/patch/elevate", "[6, 0]", "/shells/1/patch/elevate",
+     "degree + elevate must stay at most 7"},
+    {"elevate_negative", "/shells/1/patch/elevate", "[-1, 0]", "/shells/1/patch/elevate/0", "out of range"},
+    {"elevate_on_flat", "/shells/0/patch/elevate", "[1, 1]", "/shells/0/patch/elevate", "unknown key"},
     {"negative_thickness", "/shells/0/thickness", "-0.001", "/shells/0/thickness", "must be > 0"},
     {"zero_thickness", "/shells/0/thickness", "0", "/shells/0/thickness", "must be > 0"},
     {"thickness_as_string", "/shells/0/thickness", "\"thin\"", "/shells/0/thickness", "expected a number, got string"},
@@ -233,6 +239,31 @@ TEST(SceneParse, ControlNetRefineKeepsGeometry) {
     for (int k = 0; k <= 20; ++k)
       worst = std::max(worst, (a.point(i / 20.0, k / 20.0) - b.point(i / 20.0, k / 20.0)).norm());
   EXPECT_LE(worst, 1e-12);
+}
+
+TEST(SceneParse, ControlNetElevateKeepsGeometryAndRaisesTheDegree) {
+  // elevate then refine (k-refinement): degrees (3, 3), the same rational surface to 1e-14.
+  Json j = valid_scene();
+  j["shells"][1]["patch"]["elevate"] = {1, 2};
+  j["shells"][1]["patch"]["refine"] = {2, 2};
+  const Model coarse = build_model(valid_scene().dump(), "a.json");
+  const Model fine = build_model(j.dump(), "b.json");
+  const auto& a = coarse.shells[1].surface;
+  const auto& b = fine.shells[1].surface;
+  EXPECT_EQ(b.knots_u().degree(), 3);
+  EXPECT_EQ(b.knots_v().degree(), 3);
+  EXPECT_EQ(b.knots_u().multiplicity(0.5), 1);
+  double worst = 0;
+  for (int i = 0; i <= 20; ++i)
+    for (int k = 0; k <= 20; ++k)
+      worst = std::max(worst, (a.point(i / 20.0, k / 20.0) - b.point(i / 20.0, k / 20.0)).norm());
+  EXPECT_LE(worst, 1e-14);
+  // The built-in shapes take "degree".
+  j = valid_scene();
+  j["shells"][0]["patch"]["degree"] = {3, 4};
+  const Model raised = build_model(j.dump(), "c.json");
+  EXPECT_EQ(raised.shells[0].surface.num_u(), 4 + 3);
+  EXPECT_EQ(raised.shells[0].surface.num_v(), 8 + 4);
 }
 
 TEST(SceneParse, InvalidJsonReportsLineAndColumn) {
