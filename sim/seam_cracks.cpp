@@ -81,6 +81,27 @@ coupling::TornTangents torn_tangents(const World& world, const coupling::Interfa
   return torn;
 }
 
+// Where cracks cross the seam, once for both patches. Each patch's crack graph meets the edge where its own
+// damage took it, so one crack can reach the two sides a little apart (2 mm on the L of three patches
+// with a 20-cell top); taken as two crossings, the exact closure would tie the sliver of seam between
+// them to neither side. A leader crossing and a follower crossing closer than a cell of either edge are
+// one crossing, at the leader's position (the seam's shared space is the leader's); crossings of one
+// patch are kept apart, since its own graph says they are distinct.
+std::vector<double> shared_crossings(const CrackSystem& cracks, const size_t patch[2], const SeamSide side[2]) {
+  std::vector<double> leader, follower;
+  for (int k = 0; k < 2; ++k)
+    if (cracks.graph(patch[k]))
+      for (const SeamHit& h : seam_hits(*cracks.graph(patch[k]), side[k])) (k == 0 ? leader : follower).push_back(h.along);
+  const double near = std::max(1.0 / along_cells(*side[0].surface, side[0].side), 1.0 / along_cells(*side[1].surface, side[1].side));
+  std::vector<double> out = leader;
+  for (double f : follower) {
+    const bool shared = std::any_of(leader.begin(), leader.end(), [&](double l) { return std::abs(l - f) < near; });
+    if (!shared) out.push_back(f);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 }  // namespace
 
 SeamSystem::SeamSystem(const scene::Model& model, const World& world) : model_(model), start_positions_(world.num_shells()) {
@@ -199,10 +220,7 @@ void SeamSystem::update_cracks(World& world, CrackSystem& cracks) {
       }
     }
     SeamState& st = seams_[i];
-    st.cracks.clear();
-    for (int k = 0; k < 2; ++k)
-      if (cracks.graph(patch[k]))
-        for (const SeamHit& h : seam_hits(*cracks.graph(patch[k]), side[k])) st.cracks.push_back(h.along);
+    st.cracks = shared_crossings(cracks, patch, side);
     const coupling::TornTangents torn = torn_tangents(world, c);
     if (st.cracks.empty() && !torn.any()) continue;
     // An exactly closed seam stays exact on each side of the crack (segmented shared space); the

@@ -59,6 +59,26 @@ TEST(SeamCracks, ACrackReachingTheSeamContinuesMirroredIntoTheNeighbour) {
   EXPECT_EQ(pieces(sim), 1);  // a cut ending inside the right patch separates nothing
 }
 
+TEST(SeamCracks, CracksThatReachBothSidesNearlyTogetherCrossTheSeamOnce) {
+  // Issue 27 item 4: a cut in each patch reaches the seam, the left one (leader) at v = 0.5 and the right
+  // one 1 cm further up (a tenth of a cell). The coupling takes them as one crossing, at the leader's
+  // position, so that no sliver of seam between two crossings is tied to neither side; a right cut that
+  // reaches the seam three cells away is a crossing of its own.
+  Simulation near(scene::build_model(
+      seam_scene(R"({"points": [[0.5, 0.3], [1.0, 0.5]]})", R"({"points": [[0.0, 0.51], [0.3, 0.7]]})"), "seam.json"));
+  ASSERT_FALSE(near.seam_cracks(0).empty());
+  for (double c : near.seam_cracks(0)) EXPECT_NEAR(c, 0.5, 1e-12);
+  EXPECT_EQ(near.crack_stats().seam_continuations, 0u);  // each side has its own crack there already
+  Simulation far(scene::build_model(
+      seam_scene(R"({"points": [[0.5, 0.3], [1.0, 0.5]]})", R"({"points": [[0.0, 0.8], [0.3, 0.9]]})"), "seam.json"));
+  std::vector<double> crossings = far.seam_cracks(0);
+  std::sort(crossings.begin(), crossings.end());
+  crossings.erase(std::unique(crossings.begin(), crossings.end()), crossings.end());
+  ASSERT_EQ(crossings.size(), 2u);
+  EXPECT_NEAR(crossings[0], 0.5, 1e-12);
+  EXPECT_NEAR(crossings[1], 0.8, 1e-12);
+}
+
 TEST(SeamCracks, CutOperatorsKeepEachSideAndReleaseOnlyPointsWithNothingLeft) {
   // The operator of an 8 vs 10 cell seam (non-nested: dense pseudo-inverse rows) cut at s = 0.5: no
   // weight crosses the crack, and every row still maps an affine field f(s) = a + b s of the leader
@@ -188,6 +208,41 @@ TEST(SeamCracks, TornGarmentComesApartOnlyWhereTheCrackCrossesItsSeams) {
   std::printf("garment: %d pieces, %zu seams crossed by cracks, largest seam gap elsewhere %.3g m\n",
               pieces(sim), crossed, worst);
   EXPECT_LE(worst, 1e-9 * 0.9);  // the garment spans 0.4 x 0.7 x 0.4 m
+}
+
+}  // namespace
+}  // namespace shellfrac::sim
+
+namespace shellfrac::sim {
+namespace {
+
+// Issue 27 item 4: the L of three patches with a 20-cell top (nested with the corner's 10), whose tear
+// crosses both C1 seams, runs its whole second under the default transfer without diverging and comes
+// apart in two, and both seams cross each crack once (no two crossings of a seam closer than a cell).
+// It diverged once its crack crossed the corner/top seam while the two patches' crossings, 1.2 cm apart,
+// counted as two.
+TEST(SeamCracks, LWithATwentyCellTopTearsAcrossItsSeamsForAWholeSecond) {
+  std::ifstream in(std::string(SHELLFRAC_SOURCE_DIR) + "/scenes/l-sheet-three-patch.json");
+  nlohmann::json j = nlohmann::json::parse(in);
+  j["shells"][2]["patch"]["cells"] = {20, 20};
+  const scene::Model scene = scene::build_model(j.dump(), "l20.json");
+  Simulation sim(scene);
+  for (int f = 1; f <= 24; ++f) ASSERT_NO_THROW(sim.advance_to(f / 24.0)) << "frame " << f;  // frames, as a run takes them
+  EXPECT_EQ(pieces(sim), 2);
+  for (size_t i = 0; i < scene.interfaces.size(); ++i) {
+    // Every crossing the coupling uses is one of the leader's own: the follower's nearby ones joined them.
+    const coupling::Interface& c = scene.interfaces[i].coupling;
+    const nurbs::NurbsSurface& leader = scene.shells[static_cast<size_t>(c.leader_patch)].surface;
+    std::vector<double> own;
+    for (const Eigen::Vector2d& v : sim.crack_graph(static_cast<size_t>(c.leader_patch))->vertices()) {
+      const coupling::SeamCoordinate sc = coupling::seam_coordinate(leader, c.leader_side, false, v);
+      if (std::abs(sc.across) < 1e-9) own.push_back(sc.along);
+    }
+    EXPECT_FALSE(sim.seam_cracks(i).empty()) << i;
+    for (double x : sim.seam_cracks(i))
+      EXPECT_TRUE(std::any_of(own.begin(), own.end(), [&](double o) { return std::abs(o - x) < 1e-12; }))
+          << "interface " << i << ": crossing " << x << " is not the leader's";
+  }
 }
 
 }  // namespace
