@@ -2,7 +2,7 @@
 // and crack extraction plus fragment cutting of a 100K-particle object, stage by stage.
 //
 // Anchors: thesis Table 3.3 runs 16K particles at 0.0913 s per step on 24 cores, about 0.18M
-// particle-steps/s for the whole machine; the target is 3M particle-steps/s per core.
+// particle-steps/s for the whole machine; our target is 3M particle-steps/s per core.
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 

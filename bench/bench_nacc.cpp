@@ -1,4 +1,4 @@
-// NACC plasticity (issue 30, seed 001 sec. 6.2): the analytic return mapping against a Newton return
+// NACC plasticity (seed 001 sec. 6.2): the analytic return mapping against a Newton return
 // of the same equations. Seed 001 reports a 2x speed-up of its analytic NACC kernel over an iterative
 // (CCC) one; this measures ours on one core.
 //

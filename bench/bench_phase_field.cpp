@@ -1,4 +1,4 @@
-// Cost of CD-MPM's non-local phase field against the thesis's local Rankine damage (issue 30): wall
+// Cost of CD-MPM's non-local phase field against the thesis's local Rankine damage: wall
 // time per brittle step on a stretched cube of n^3 particles (two per cell and axis, single velocity
 // field), for local damage, the phase field with matrix-free CG, and the phase field with CHOLMOD.
 //

@@ -5,7 +5,7 @@
 
 namespace shellfrac::brittle {
 
-// Smoothing of crack sheets between Voronoi regions of a jittered lattice (issue 16, not in the thesis).
+// Smoothing of crack sheets between Voronoi regions of a jittered lattice (ours, not in the thesis).
 // When every node of a grid of spacing h is a site (the damage-time crack), the sheet between two regions
 // is a union of the near-cubic cells' faces: a staircase at h. The smoothing works on that staircase:
 //  - every vertex of the diagram belongs to a lattice corner (the cube corner (k + 1/2) h nearest to it);

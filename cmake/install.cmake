@@ -4,7 +4,7 @@
 include(CMakePackageConfigHelpers)
 include(GNUInstallDirs)
 
-set(SHELLFRAC_LAYERS core nurbs crack2d coupling mpm brittle rigid shatter shell render_mesh scene sim output tools)
+set(SHELLFRAC_LAYERS core nurbs crack2d mpm brittle rigid shatter coupling shell render_mesh scene sim output tools)
 foreach(layer ${SHELLFRAC_LAYERS})
   add_library(shellfrac::${layer} ALIAS shellfrac_${layer})
   set_target_properties(shellfrac_${layer} PROPERTIES EXPORT_NAME ${layer})

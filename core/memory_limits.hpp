@@ -1,5 +1,5 @@
 #pragma once
-// How much more memory this process may take before something stops it (issue 28): the physical memory
+// How much more memory this process may take before something stops it: the physical memory
 // the kernel reports as available, the cgroup it runs in (v2 memory.max, or a v1 memory controller's
 // limit_in_bytes, for the process's own group and every group above it), and its own address-space and
 // data-segment limits (RLIMIT_AS, RLIMIT_DATA, as `prlimit --as` or `ulimit -v` set them). The resource

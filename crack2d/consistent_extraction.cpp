@@ -506,7 +506,7 @@ bool ConsistentCrackExtractor::covered_by_crack(const Point& p, const DamageFiel
   if (near.distance < kLinkRadius * spacing_) return true;
   // Beside the crack (not ahead of one of its tips) and joined to it through damaged material: the same
   // damaged band already holds a crack line, and a second one would leave a thin tongue or lens of
-  // material between the two (issue 12: near-parallel branches merge).
+  // material between the two (so near-parallel branches merge).
   const auto& ed = graph_.edges()[near.segment];
   for (int k = 0; k < 2; ++k)
     if (near.point == graph_.vertices()[ed[k]] && graph_.degree(ed[k]) == 1) return false;

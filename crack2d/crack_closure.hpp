@@ -1,5 +1,5 @@
 #pragma once
-// Closure of the crack graph after the medial-axis extraction (issue 12; thesis sec. 4.4.2, Fig. 4.8
+// Closure of the crack graph after the medial-axis extraction (thesis sec. 4.4.2, Fig. 4.8
 // extended to prescribed cuts and the patch border). See docs/crack-extraction.md.
 //
 //  - separate_intact_pieces: where fully damaged material links two intact pieces of the patch that

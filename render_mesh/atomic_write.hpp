@@ -7,7 +7,7 @@ namespace shellfrac::render_mesh {
 
 // Every function here checks each write, fsync and close. A failure throws std::runtime_error that
 // names the path and the OS reason (errno text), e.g. "cannot write out/frames/f.obj: No space left on
-// device". Nothing partial is left under a final name (issue 14, "Full disks").
+// device". Nothing partial is left under a final name, even on a full disk.
 
 // Writes `content` to `path` so that readers only ever see the old file or the complete new one:
 // the bytes go to a temporary file in the same directory, are fsynced, and are renamed over `path`;

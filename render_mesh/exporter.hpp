@@ -33,8 +33,8 @@ struct ExportOptions {
   // Triangulate every polygon (output.triangulate), with triangulate(): deterministic ear clipping in
   // the parameter plane, no vertex added or moved. Formats with needs_triangles do it regardless.
   bool triangulate = false;
-  // 17 significant digits instead of 9 for positions, UVs and normals (output.precision "double",
-  // issue 15); only formats with double_precision honour it, the others ignore it.
+  // 17 significant digits instead of 9 for positions, UVs and normals (output.precision "double");
+  // only formats with double_precision honour it, the others ignore it.
   bool double_precision = false;
 };
 

@@ -1,7 +1,7 @@
 #pragma once
 // shellfrac's own glTF 2.0 writer. assimp's glTF 2 exporters always run JoinIdenticalVertices (it merges
 // vertices closer than 1e-5 in position, normal and UV: shadow vertices of a closed crack) and write the
-// vertices in face-corner order, so neither count nor order survived (issue 12).
+// vertices in face-corner order, so neither count nor order survived export.
 #include <Eigen/Geometry>
 #include <string>
 #include <vector>

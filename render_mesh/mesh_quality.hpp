@@ -1,5 +1,5 @@
 #pragma once
-// Render-mesh quality metrics (issue 12): honest piece counts across patches and seams, and stretch
+// Render-mesh quality metrics: honest piece counts across patches and seams, and stretch
 // against the rest configuration. See docs/render-mesh.md, "Quality metrics".
 #include <vector>
 

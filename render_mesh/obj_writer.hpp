@@ -1,6 +1,6 @@
 #pragma once
 // shellfrac's own Wavefront OBJ writer (assimp's merges coincident vertices, so the vertex count of a
-// frame changed while the crack did not; issue 12, "Stable export topology").
+// frame changed while the crack did not; docs/render-mesh.md).
 #include <string>
 #include <vector>
 

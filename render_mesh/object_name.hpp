@@ -3,8 +3,8 @@
 
 namespace shellfrac::render_mesh {
 
-// The name an object gets in every exported file. A scene may name a shell anything (issue 14: a name
-// holding "\nv 9 9 9" injected geometry into the OBJ), so every writer passes names through this:
+// The name an object gets in every exported file. A scene may name a shell anything (a name
+// holding "\nv 9 9 9" would inject geometry into an OBJ), so every writer passes names through this:
 //   - the name is read as UTF-8; every byte that is not part of a valid UTF-8 sequence becomes '_';
 //   - every code point that ends or breaks a line or controls a terminal becomes '_': C0 controls
 //     U+0000-U+001F (newline, carriage return, tab, ...), U+007F, C1 controls U+0080-U+009F (NEL),

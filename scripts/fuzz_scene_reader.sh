@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Builds and runs the libFuzzer target of the scene reader (issue 14) with clang, AddressSanitizer and
+# Builds and runs the libFuzzer target of the scene reader with clang, AddressSanitizer and
 # UndefinedBehaviorSanitizer: the reader, validator, writer and resource estimate (scene/) are compiled
 # instrumented; the render_mesh library (export formats) is linked from an existing build.
 #

@@ -2,7 +2,7 @@
 
 namespace shellfrac::shell {
 
-// Which stress the Type IV points use (the benchmark issue compares them; thesis sec. 4.5, Fig. 4.10).
+// Which stress the Type IV points use (docs/benchmarks.md compares them; thesis sec. 4.5, Fig. 4.10).
 enum class StressModel {
   // Default: the Kirchhoff-Love in-plane stress of thesis Eq. 4.11-4.14 (see TransverseModel).
   KirchhoffLove,

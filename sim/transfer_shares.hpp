@@ -1,5 +1,5 @@
 #pragma once
-// The adaptive particle-grid transfer (issue 15, docs/shell-model.md "Transfer"): each particle's FLIP share
+// The adaptive particle-grid transfer (docs/shell-model.md, "Transfer"): each particle's FLIP share
 // is chosen every step from the state of the material it carries.
 //  - Intact elastic material keeps the share `intact` (default 1, affine-FLIP): its bending and swinging
 //    energy is not dissipated by the transfer, which PIC and APIC do at a rate growing with cell / thickness.

@@ -1,4 +1,4 @@
-// shellfrac_crack_speed_study: resolution dependence of local and non-local damage (issue 30). A notched
+// shellfrac_crack_speed_study: resolution dependence of local and non-local damage. A notched
 // bar (12 x 2 x 2 cm, notch 8 mm deep from z = 0) is pulled apart by two sticky grips at 0.1 m/s each,
 // at several grid spacings, with the thesis's Rankine damage and with CD-MPM's phase field at a fixed
 // physical length scale. The crack grows from the notch up through z; its tip is the highest broken

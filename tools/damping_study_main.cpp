@@ -1,4 +1,4 @@
-// shellfrac_damping_study: the transfer's numerical damping against cell size / thickness (issue 15).
+// shellfrac_damping_study: the transfer's numerical damping against cell size / thickness.
 // Runs the simply supported plate of tools/vibration.hpp for each transfer, a/t and resolution, writes
 // damping.csv and the chart damping-ratio.png (gnuplot) into the output folder.
 //   shellfrac_damping_study [--out DIR] [--cells 8,16,32] [--ratios 20,100] [--transfers pic,apic,aflip]

@@ -1,5 +1,5 @@
 #pragma once
-// What the bench commands may use and when they stop (issue 14): every scene they simulate is checked
+// What the bench commands may use and when they stop: every scene they simulate is checked
 // against the resource budget before it is built, as `run` does, and a stop request (a signal caught by
 // output::InterruptHandlers) ends them between two time steps with output::Interrupted.
 #include <functional>

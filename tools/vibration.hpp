@@ -1,5 +1,5 @@
 #pragma once
-// Free-vibration measurements of the particle-grid transfer's numerical damping (issue 15): a square
+// Free-vibration measurements of the particle-grid transfer's numerical damping: a square
 // simply supported plate excited in its first mode, and a free-floating sheet with a bending mode, run
 // with a chosen transfer. The plate's damping ratio comes from the logarithmic decrement of the centre
 // deflection's extrema, its period from their spacing; Kirchhoff plate theory gives the reference

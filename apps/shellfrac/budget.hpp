@@ -1,5 +1,5 @@
 #pragma once
-// The resource budget of `run` and `validate` (issues 14, 28): --max-memory (default: the memory available
+// The resource budget of `run` and `validate`: --max-memory (default: the memory available
 // to this process, within its cgroup and rlimits), the step and frame budgets and --force, and the free
 // disk where the frames go.
 #include <CLI/CLI.hpp>

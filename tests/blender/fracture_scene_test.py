@@ -1,6 +1,6 @@
-"""Real-client check of a shipped fracture scene (issue 12): run it, import its last frame into Blender, and
+"""Real-client check of a shipped fracture scene: run it, import its last frame into Blender, and
 assert that Blender's loose-part count equals metrics.pieces + metrics.slivers.count; then the scene's own
-criteria of issue 12 on its summary.json (check_scene_criteria), so each scene runs once.
+fracture criteria on its summary.json (check_scene_criteria), so each scene runs once.
 
     python3 fracture_scene_test.py --list SCENES_DIR
         prints the fracture scenes (a shell with a "fracture" material or "cuts"), one path a line
@@ -84,7 +84,7 @@ def check_clean_every_frame(name, m):
 
 
 def check_scene_criteria(name, summary):
-    """The per-scene validation of issue 12, on the shipped scene at its shipped resolution. Every
+    """The per-scene fracture criteria, on the shipped scene at its shipped resolution. Every
     fracture scene: no material without a basis, the strict-subset property of the crack graph, and clean
     in every frame."""
     m = summary["metrics"]

@@ -286,7 +286,7 @@ size_t pieces_of_at_least(const std::vector<double>& shares, double share) {
 // following the damage time (breakage_order). Every shape shatters: at least 4 pieces, every counted
 // piece at least 1 % of its shape's volume, no sliver. Physics bound: at most 12 counted pieces each (no
 // shape is pulverised at this speed). Measured: 8 / 10 / 7 / 10 (sphere / box / cylinder / torus), 35 in
-// all, the smallest 1.3 / 1.4 / 2.1 / 3.3 % (before issue 16's follow-up: 3 / 2 / 2 / 3; the box had two
+// all, the smallest 1.3 / 1.4 / 2.1 / 3.3 % (3 / 2 / 2 / 3 pieces with G_f 30; the box had two
 // more pieces of 0.9 and 0.7 % before the merge was checked on the cut volumes, the torus a chip of 0.2 %
 // before regions were split at cells without particles). The totals of at least 30 and of at least 5
 // pieces for the sphere and box are regression checks just below those values.
@@ -392,7 +392,7 @@ std::vector<CrackTriangle> crack_triangles(const fs::path& obj) {
 //    horizontal (delamination) crack. The fit is needed because Voronoi faces of grid sites are nearly
 //    axis-aligned: a diagonal crack is a staircase whose single faces are 45 degrees off either way.
 //    At least 70 % of that crack area must have |n . t| >= cos 30 degrees (vertical planes of uniformly
-//    random azimuth would give 1/6; the sticky-support scene before issue 16 measured 0.08; this one 0.88).
+//    random azimuth would give 1/6; the scene on sticky supports measured 0.08; on slip supports 0.88).
 TEST(BrittleCli, SlabSphereBreaksIntoRadialPieces) {
   const fs::path d = scratch("slab_radial");
   const Json s = run_scene("slab-sphere", d);
@@ -510,7 +510,7 @@ Json run_ball_drop(const fs::path& d, const std::string& fracture_extra) {
   return in ? Json::parse(in) : Json::object();
 }
 
-// The denser ball drop of issue 16 (14,022 particles, 8 m/s onto the ground, weak Weibull material,
+// A denser ball drop (14,022 particles, 8 m/s onto the ground, weak Weibull material,
 // stopped at 95 % damaged particles after about 2.4 ms): its crushed contact zone reaches most of the
 // surface, which once let the Voronoi container miss part of the ball, and the exact cutter lost 10 %
 // of the volume (15 % at 6 m/s). Conservation: the fragment volumes sum to the ball's to 1e-9 relative

@@ -79,7 +79,7 @@ TEST(Damage, DamageStepUnderUniaxialStretch) {
   EXPECT_EQ(full.tau, 2.0);
 }
 
-// Issue 16 (slab-sphere showed a crushed patch): the damage law must not damage under compression and
+// Guards against slab-sphere's crushed patch: the damage law must not damage under compression and
 // must weaken only tension. Hydrostatic and confined uniaxial compression (all principal stresses < 0)
 // leave c = 0 and the undamaged stress even for a tiny sigma_f; a stretched-and-squeezed state that is
 // fully damaged keeps its compressive principal stress exactly (thesis Eq. 2.29-2.31).

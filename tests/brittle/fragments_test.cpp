@@ -134,7 +134,7 @@ TEST(Fragments, CrushedZoneKeepsTheWholeVolumeWithBothCutters) {
   }
 }
 
-// A shattered block (issue 16): every particle fully damaged except four separated intact clumps of
+// A shattered block: every particle fully damaged except four separated intact clumps of
 // radius 1.1 h_v (about 44 particles each; 97.8 % of the particles damaged). The kernel spreads the
 // damaged particles 1.5 h_v onto the grid, so by the thesis's rule (a node is damaged when any damaged
 // particle reaches it, sec. 3.3.1) no node is left undamaged: D held only the surface nodes (S), V was
@@ -181,7 +181,7 @@ TEST(Fragments, LevelSetCutterLosesLittleVolumeAtTheDefaultVoxel) {
               set.volume_change(), set.voxel);
   ASSERT_EQ(set.fragments.size(), 2u);
   EXPECT_LT(set.volume_change(), 0.0);   // the CSG rounds the cut: it loses, never gains, material
-  EXPECT_GT(set.volume_change(), -0.02);  // issue 16: at most 2 %
+  EXPECT_GT(set.volume_change(), -0.02);  // loses at most 2 %
   for (const Fragment& f : set.fragments) EXPECT_TRUE(inspect_mesh(f.mesh).closed()) << f.mesh.name;
 }
 

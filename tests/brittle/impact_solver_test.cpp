@@ -48,7 +48,7 @@ TEST(Impact, GhostParticlesDeliverTheImpulse) {
   EXPECT_LT((p - im.impulse * im.direction.normalized()).norm(), 1e-3 * im.impulse);
 }
 
-// The contact patch must not depend on the tessellation (issue 16: a slab struck at its centre): on a box
+// The contact patch must not depend on the tessellation (as for a slab struck at its centre): on a box
 // whose top face is four triangles of 0.1 m, an impact at the face centre with radius 1 cm used to put its
 // whole load on the centroid of the nearest triangle, 4.7 cm off the point. The ghosts' force-weighted
 // centre must be the point (to a tenth of the radius) and every ghost within the radius of it; on a finely

@@ -1,4 +1,4 @@
-// Meshes as users bring them (issue 29) through the product: `shellfrac validate` refuses a brittle
+// Meshes as users bring them, through the product: `shellfrac validate` refuses a brittle
 // solid's closed but flipped or non-manifold mesh with exit code 2, the file, the JSON path and the
 // counts, before any simulation; with "repair": true it validates with a warning saying what changed.
 #include <gmock/gmock.h>
@@ -95,7 +95,7 @@ TEST(MeshCheckCli, InsideOutCubeIsRefusedUnlessRepaired) {
 }
 
 TEST(MeshCheckCli, CubesTouchingAtAVertexAreRefusedEvenWithRepair) {
-  // What passed validate before issue 29 and failed in the exact cutter after the MPM phase (exit 3).
+  // This once passed validate and failed in the exact cutter after the MPM phase (exit 3).
   const fs::path d = shellfrac::test::scratch_folder("meshcheck", "touching");
   std::ofstream(d / "touching.obj") << cubes_obj({{0, 0, 0}, {0.1, 0.1, 0.1}});
   std::ofstream(d / "refused.json") << mesh_scene("touching.obj", "");

@@ -1,4 +1,4 @@
-// Meshes as users bring them (issue 29): closed but non-manifold or badly oriented meshes are refused at
+// Meshes as users bring them: closed but non-manifold or badly oriented meshes are refused at
 // load with exact counts, the load check agrees with what the exact cutter can build, and repair
 // (brittle/mesh_repair.hpp) makes the flipped and inside-out cubes into solids the exact cutter cuts.
 #include <gtest/gtest.h>
@@ -96,7 +96,7 @@ TEST(MeshCheck, TwoCubesTouchingAtAVertexHaveOneNonManifoldVertex) {
   const TriMesh cubes = joined(cube(Vec3::Zero(), 1.0), cube(Vec3(1, 1, 1), 1.0));
   const MeshReport r = inspect_mesh(cubes);
   expect_counts(r, 0, 0, 1, 0);
-  EXPECT_TRUE(r.closed());  // what the check saw before issue 29: it passed and the cutter failed
+  EXPECT_TRUE(r.closed());  // closed alone once let this pass, and the cutter failed
   EXPECT_FALSE(r.closed_manifold());
   EXPECT_DOUBLE_EQ(r.volume, 2.0);
   EXPECT_FALSE(exact_cutter_accepts(cubes));

@@ -65,7 +65,7 @@ TEST(Nacc, ReturnLandsOnTheYieldSurfaceInEveryCase) {
       worst = std::max(worst, std::abs(y));
     }
   }
-  // Criterion of issue 30: residual <= 1e-10 (relative to the yield function's value at the centre).
+  // Criterion: residual <= 1e-10 (relative to the yield function's value at the centre).
   EXPECT_LE(worst, 1e-10);
   for (int c = 0; c < 4; ++c) EXPECT_GE(counts[c], 100) << "branch " << to_string(static_cast<NaccCase>(c)) << " barely sampled";
 }
@@ -103,7 +103,7 @@ TEST(Nacc, AnalyticReturnMatchesNewton) {
       max_it = std::max(max_it, n.iterations);
     }
   }
-  // Criterion of issue 30: the two agree to 1e-10.
+  // Criterion: the two agree to 1e-10.
   EXPECT_LE(worst_stretch, 1e-10);
   EXPECT_LE(worst_alpha, 1e-10);
   EXPECT_LT(max_it, 60) << "Newton hit its iteration cap";

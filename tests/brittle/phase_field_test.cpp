@@ -151,7 +151,7 @@ TEST(PhaseField, StaticCrackProfileConvergesAtFirstOrder) {
               std::log2(e2 / e4), std::log2(e4 / e8));
   EXPECT_GT(std::log2(e2 / e4), 0.9);
   EXPECT_GT(std::log2(e4 / e8), 0.9);
-  EXPECT_LT(e8, 0.02);  // the issue's 2% is met from l0 = 8 dx on
+  EXPECT_LT(e8, 0.02);  // the 2% bound is met from l0 = 8 dx on
   // The MLS gradient of the paper is less accurate on the same grid.
   const double mls4 = profile_error(l0 / 4, l0, PhaseFieldGradient::Mls);
   std::printf("profile max error (MLS gradient): l0/dx = 4: %.4f\n", mls4);
@@ -161,7 +161,7 @@ TEST(PhaseField, StaticCrackProfileConvergesAtFirstOrder) {
   EXPECT_NEAR(profile_error(l0 / 2, l0, PhaseFieldGradient::Spline, PhaseFieldSolver::ConjugateGradient), e2, 1e-8);
 }
 
-// KNOWN FAILURE (issue criterion): within 2% at l0 = 4 dx. Measured 2.08% with the spline gradient
+// KNOWN FAILURE: the criterion is within 2% at l0 = 4 dx. Measured 2.08% with the spline gradient
 // (2.83% with the paper's MLS gradient), all of it at the particles beside the kink.
 TEST(PhaseField, DISABLED_StaticCrackProfileWithinTwoPercentAtFourCells) {
   EXPECT_LT(profile_error(0.01, 0.04, PhaseFieldGradient::Spline), 0.02);

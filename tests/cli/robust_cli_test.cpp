@@ -1,4 +1,4 @@
-// issue 14 end to end: hostile scenes refused with exit 2 and the JSON path before anything is
+// End to end: hostile scenes refused with exit 2 and the JSON path before anything is
 // allocated, output folders cleaned, SIGINT, SIGTERM and SIGHUP stopping a run with an "interrupted"
 // summary, and a full disk (a 200 KiB tmpfs, or RLIMIT_FSIZE where no mount is allowed) stopping a run
 // with exit 1 and no partial file under a final name.
@@ -87,10 +87,10 @@ TEST(CliRobust, ScenesThatCannotBeReadAreExitTwoWithPath) {
   fs::remove_all(d);
 }
 
-// The rest of the issue's list, each through `run`: exit code 2 and a message with the JSON pointer of
+// The other hostile scenes, each through `run`: exit code 2 and a message with the JSON pointer of
 // the value to change, before anything is written. (The library tests check the same refusals in more
 // detail: tests/scene/estimate_test.cpp, strict_input_test.cpp.)
-TEST(CliRobust, HostileScenesOfTheIssueExitTwoWithTheirPath) {
+TEST(CliRobust, HostileScenesExitTwoWithTheirPath) {
   const fs::path d = scratch("hostile");
   const std::string material = R"({"E": 1e5, "nu": 0.3, "density": 300})";
   std::string knots = "[0", net;
@@ -136,7 +136,7 @@ TEST(CliRobust, ValidatePrintsTheEstimateAndRunRefusesOverBudget) {
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
   EXPECT_THAT(ok.output, HasSubstr("estimate: memory"));
   EXPECT_THAT(ok.output, HasSubstr("shell \"cloth\" quadrature points: 3072"));  // 8 x 8 cells x 4 x 4 x 3
-  // The memory bomb of issue 14: refused by validate and run alike, in no time.
+  // A memory bomb: refused by validate and run alike, in no time.
   const std::string bomb = cloth().replace(cloth().find("\"cells\": [8, 8]"), 15, "\"cells\": [10000, 10000]");
   for (const std::string& command : std::vector<std::string>{"validate", "run --out " + (d / "out").string()}) {
     std::ofstream(d / "bomb.json") << bomb;
@@ -161,7 +161,7 @@ TEST(CliRobust, ValidatePrintsTheEstimateAndRunRefusesOverBudget) {
   fs::remove_all(d);
 }
 
-// issue 28: `validate` said OK (with a warning) to six scenes `run` then refused. Both now apply the
+// `validate` once said OK (with a warning) to six scenes `run` then refused. Both now apply the
 // same check (scene::check_budget): exit 2 at the same JSON path, saying --force would run it; with
 // --force validate accepts them and warns.
 TEST(CliRobust, ValidateRefusesWhatRunRefuses) {
@@ -191,7 +191,7 @@ TEST(CliRobust, ValidateRefusesWhatRunRefuses) {
   fs::remove_all(d);
 }
 
-// issue 28: under an address-space cap (`prlimit --as`, as `ulimit -v` or a batch system sets one) the
+// Under an address-space cap (`prlimit --as`, as `ulimit -v` or a batch system sets one) the
 // memory budget is what is left under the cap. Each scene below fits the machine's RAM but not 4 GiB;
 // validate and run refuse it with exit 2 and the value to change, from the estimate alone, instead of
 // being killed while sampling particles, building a level set or writing a frame.
@@ -200,7 +200,7 @@ TEST(CliRobust, ScenesOverAnAddressSpaceCapAreRefusedNotKilled) {
   const fs::path d = scratch("cap");
   const std::string mesh = std::string(SHELLFRAC_SOURCE_DIR) + "/scenes/meshes/ellipsoid.obj";
   const std::string material = R"("material": {"E": 1e5, "nu": 0.3, "density": 300})";
-  // The ellipsoid is 0.6 m long; scaled by 1/3 it is the issue's 0.2 m mesh.
+  // The ellipsoid is 0.6 m long; scaled by 1/3 it is 0.2 m long.
   const std::string small_mesh = R"("file": ")" + mesh + R"(", "scale": 0.3333333, "voxel_size": 3e-5)";
   const std::vector<std::pair<std::string, std::string>> cases = {
       // 1 m^3 at 0.002752 m: 4.8e7 particles, just under the 5e7 cap of the build.
@@ -443,7 +443,7 @@ int run_on_tmpfs(const std::vector<std::string>& args, const fs::path& mount_poi
   return code;
 }
 
-// The issue's full disk: a 200 KiB tmpfs that fills up after some frames of a 61-frame run (each frame
+// A full disk: a 200 KiB tmpfs that fills up after some frames of a 61-frame run (each frame
 // takes three 4 KiB pages: a 5-6 kB OBJ and its .mtl). The run must stop at the first failed write with
 // exit code 1 and a message naming the file and "No space left on device"; every frame written before
 // stays complete and parseable, nothing partial or empty sits under a final name, and no staging folder

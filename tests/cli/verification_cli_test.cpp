@@ -1,4 +1,4 @@
-// Verification scenes end to end (issue 15): bad boundary conditions, loads, probes and initial
+// Verification scenes end to end: bad boundary conditions, loads, probes and initial
 // velocities refused with exit 2 and the JSON path; probes, control-point output, reactions and the run
 // to rest in the files a run writes.
 #include <gmock/gmock.h>
@@ -187,7 +187,7 @@ double roof_deflection(int degree, int cells) {
   return uz;
 }
 
-// Issue 32: quadratic splines lock on the roof at coarse meshes, raised degrees do not. The shipped
+// Quadratic splines lock on the roof at coarse meshes, raised degrees do not. The shipped
 // scene (degree 3, 8 cells) is within 0.5 % of the same model at degree 4 and 16 cells (an independent,
 // converged computation: degrees 3 and 4 at 16 cells agree to 3e-5), while degree 2 at 8 cells is more
 // than 15 % short of it (measured 22 %).
@@ -198,7 +198,7 @@ TEST(VerificationCli, DegreeElevationRemovesTheRoofsLocking) {
   EXPECT_LT(quadratic / converged, 0.85);
 }
 
-// Known failure (2026-12-06), kept with issue 32's criterion: within 1 % of the Kirchhoff-Love reference
+// Known failure (2026-12-06): the criterion is within 1 % of the Kirchhoff-Love reference
 // 0.3006 (x 0.1 load) at 16 cells with the best degree. Measured -1.99 % at degrees 3 and 4 (16 cells),
 // -2.07 % at degree 2 and 32 cells: the model converges to about 2 % below the reference.
 TEST(VerificationCli, DISABLED_RoofWithinOnePercentOfTheReferenceAtSixteenCells) {

@@ -1,4 +1,4 @@
-// `verify coupling` checks by default (issue 12): the seam stress ratio and, for the whole scene, the
+// `verify coupling` checks by default: the seam stress ratio and, for the whole scene, the
 // render mesh's peak edge stretch (top-level "verify": {"max_edge_stretch"}); a spike fails with exit 4.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -69,8 +69,8 @@ TEST(VerifyChecks, EdgeStretchRowHasADefaultAndASceneKey) {
 }
 
 TEST(VerifyChecks, TheLSheetWithLeastSquaresSeamsFails) {
-  // scenes/l-sheet-three-patch.json with the thesis's least-squares seams (the behaviour before issue
-  // 12): once the crack crosses them the seams open (6.6e-5 m and 3.7e-5 m against a limit of 1e-9 x the
+  // scenes/l-sheet-three-patch.json with the thesis's least-squares seams (the former default):
+  // once the crack crosses them the seams open (6.6e-5 m and 3.7e-5 m against a limit of 1e-9 x the
   // model size), and verify fails with exit 4 on both gap rows. (Before the crack-closure merge the torn
   // corner's edge was also dragged into a spike of peak edge stretch 3.2e4; with the closed crack graph it
   // measures 4.6, so the spike is no longer what fails.) The shipped scene, with exact closure, passes

@@ -1,5 +1,5 @@
 # Every shipped scene with "interfaces" passes its own `shellfrac verify coupling` at its shipped
-# resolution (issue 12): seam gap, normal angle and stress ratio of each interface, and the render
+# resolution: seam gap, normal angle and stress ratio of each interface, and the render
 # mesh's peak edge stretch, against the scene's limits (defaults in docs/scene-format.md). One ctest test
 # per scene, so that they can run apart (the drapes take about a minute each on 2 cores); exit 0 is the
 # assertion (4: a check failed).

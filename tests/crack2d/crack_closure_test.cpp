@@ -1,4 +1,4 @@
-// The crack graph closes (issue 12): joins to cracks, cuts and the border, merging of overlapping
+// The crack graph closes: joins to cracks, cuts and the border, merging of overlapping
 // branches, separation of intact pieces linked by fully damaged material, strict-subset growth.
 // Pieces are counted with count_regions (crack2d/region_count.hpp) on a probe grid finer than a cell.
 #include "crack2d/consistent_extraction.hpp"

@@ -1,4 +1,4 @@
-// Seam metrics of patch interfaces and the coupling verification scenes (issue 5, thesis Fig. 4.24):
+// Seam metrics of patch interfaces and the coupling verification scenes (thesis Fig. 4.24):
 // the metrics against states with a known gap, kink and stress, and scaled-down drapes of a cloth in
 // two non-conforming patches (20 vs 25 cells along the seam) over a sphere.
 #include <gtest/gtest.h>
@@ -129,7 +129,7 @@ TEST(SeamMetrics, DefaultThresholdsAndVerifyParsing) {
   SeamThresholds t = seam_thresholds(c1, c1.interfaces.at(0));
   EXPECT_NEAR(*t.max_gap, 1e-9 * std::sqrt(2.0), 1e-24);
   EXPECT_EQ(*t.max_angle_degrees, 0.5);
-  // Checked by default since issue 12, with a limit above every shipped coupled scene (docs/coupling.md).
+  // Checked by default, with a limit above every shipped coupled scene (docs/coupling.md).
   EXPECT_EQ(*t.max_stress_ratio, kDefaultMaxStressRatio);
   const scene::Model c0 = scene::build_model(
       seam_scene(R"("continuity": "C0", "verify": {"max_gap": 0.001, "max_angle_degrees": 5, "max_stress_ratio": 2})"),
@@ -358,7 +358,7 @@ TEST(SeamVerify, NestedDrapeSeamClosesToRoundOff) {
   const DrapeRun c1 = run_drape(false, R"("continuity": "C1")", 40, 0.75);
   std::printf("nested drape 20/40: C0 gap %.3g m, angle %.3g deg; C1 gap %.3g m, angle %.3g deg\n", c0.gap, c0.angle,
               c1.gap, c1.angle);
-  // The issue's limits: gap 1e-9 x model size (round-off on nested knots), angle 0.5 degrees for C1.
+  // The default limits: gap 1e-9 x model size (round-off on nested knots), angle 0.5 degrees for C1.
   EXPECT_LE(c0.gap, 1e-9 * c0.model_size);
   EXPECT_LE(c1.gap, 1e-9 * c1.model_size);
   EXPECT_LE(c1.angle, 0.5);
@@ -366,8 +366,8 @@ TEST(SeamVerify, NestedDrapeSeamClosesToRoundOff) {
 }
 
 TEST(SeamVerify, NonNestedLeastSquaresDrapeSeamGapAndKinkAreBounded) {
-  // The thesis's least-squares seam (exact closure is the default since issue 12) on non-nested knots:
-  // Eq. 4.29 and 4.34 leave a gap and a kink that the issue's limits (1e-9 x model size, 0.5 degrees)
+  // The thesis's least-squares seam (exact closure is the default) on non-nested knots:
+  // Eq. 4.29 and 4.34 leave a gap and a kink that the default limits (1e-9 x model size, 0.5 degrees)
   // do not allow. Maxima over every frame, bounded here so that a change of the coupling that moves them
   // is seen (measured 6.6e-4 m, 4.6e-4 x model size, and 3.18 degrees; under PIC 6.0e-4 m and 2.84).
   const DrapeRun c1 = run_drape(false, R"("continuity": "C1", "closure": "least_squares")");
@@ -395,7 +395,7 @@ double rest_corner_deviation(const char* what, const std::string& interface_fiel
 
 TEST(SeamVerify, DISABLED_NonNestedLeastSquaresDrapeRestsLikeOnePatch) {
   // Known failure: measured 20.1% (corners 0.201 m from the one-patch drape's; the coupled drape never
-  // rests: still creeping at 5 s, 21.8% at 8 s), criterion 2% of the 1 m cloth at rest (the issue's).
+  // rests: still creeping at 5 s, 21.8% at 8 s), criterion 2% of the 1 m cloth at rest.
   // Under PIC at a fixed 1.5 s it was 6.8%: the thesis's leader update treats the halves differently
   // (see DISABLED_ProjectedSeamVelocityDrapesLikeOnePatch), and these halves (5 x 20, 6 x 25 cells) have
   // no one-patch equal.
@@ -406,7 +406,7 @@ TEST(SeamVerify, DISABLED_NonNestedLeastSquaresDrapeRestsLikeOnePatch) {
 
 TEST(SeamVerify, ExactClosureSealsTheNonNestedDrape) {
   // 20 vs 25 cells share every 5th / 4th knot: 5 spans. With the leader's rows kept in that shared
-  // space, Eq. 4.29 and 4.34 reproduce them: the issue's limits (gap 1e-9 x model size, C1 angle 0.5
+  // space, Eq. 4.29 and 4.34 reproduce them: the default limits (gap 1e-9 x model size, C1 angle 0.5
   // degrees) hold at every frame of the whole drape.
   const DrapeRun c0 = run_drape(false, R"("continuity": "C0", "closure": "exact")");
   const DrapeRun c1 = run_drape(false, R"("continuity": "C1", "closure": "exact")");
@@ -421,7 +421,7 @@ TEST(SeamVerify, ExactClosureSealsTheNonNestedDrape) {
 TEST(SeamVerify, DISABLED_ExactClosureDrapeRestsLikeOnePatch) {
   // Known failure: measured 18.2% (corners 0.182 m from the one-patch drape's, which rests at 2.1 s; the
   // coupled drape's corners still slide down the ball at about 2 cm/s at 4 s and it has not rested by 8 s,
-  // 17.9% then), criterion 2% of the 1 m cloth at rest (the issue's). The one-patch corners hang 9 cm
+  // 17.9% then), criterion 2% of the 1 m cloth at rest. The one-patch corners hang 9 cm
   // further out: another fold.
   EXPECT_LE(rest_corner_deviation("exact-closure C1 drape 20/25", R"("continuity": "C1", "closure": "exact")"),
             0.02 * 1.0);
@@ -448,7 +448,7 @@ TEST(SeamVerify, ProjectedSeamVelocityKeepsTheHalvesMirrorImages) {
 
 TEST(SeamVerify, DISABLED_ProjectedSeamVelocityDrapesLikeOnePatch) {
   // Known failure: measured 3.70% (corners 0.037 m from the one-patch drape's, both at rest: 2.84 s and
-  // 2.59 s), criterion 2% of the 1 m cloth at rest (the issue's); the thesis's leader update rests at
+  // 2.59 s), criterion 2% of the 1 m cloth at rest; the thesis's leader update rests at
   // 4.7 s, 10.6% off. Under PIC at a fixed 1.5 s: 0.61 cm against 6.9 cm.
   const double leader = rest_corner_deviation("conforming drape 10/10 x 20, leader update", R"("continuity": "C1")",
                                               20, 5, 10);

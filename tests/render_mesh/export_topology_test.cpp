@@ -1,5 +1,5 @@
-// Stable export topology (issue 12): every format keeps every PolyMesh vertex, in order, whatever the
-// positions do; names cannot inject lines (issue 14). Files are read back independently: our own OBJ
+// Stable export topology: every format keeps every PolyMesh vertex, in order, whatever the
+// positions do; names cannot inject lines. Files are read back independently: our own OBJ
 // parser, assimp's importers without aiProcess_JoinIdenticalVertices for PLY and glTF.
 #include <assimp/Importer.hpp>
 #include <assimp/scene.h>

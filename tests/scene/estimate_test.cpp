@@ -1,6 +1,6 @@
 // The resource estimate (scene/estimate.hpp): element counts against the built simulation (an
-// independent computation; flat, control-net, cylinder and cone patches), the stable step against the simulation's bound, and the refusals of issue
-// 14's memory bombs and endless runs, which must come from the estimate alone (nothing is allocated).
+// independent computation; flat, control-net, cylinder and cone patches), the stable step against the simulation's bound, and the refusals of
+// memory bombs and endless runs, which must come from the estimate alone (nothing is allocated).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -90,7 +90,7 @@ TEST(Estimate, SolidParticlesWithinTenPercent) {
   EXPECT_NEAR(static_cast<double>(sim.num_solid_particles()), count_of(e, "particles"), 0.1 * 8000);
 }
 
-// issue 28: the solid and level-set counts of the estimate (from the shape's volume, the mesh's area
+// The solid and level-set counts of the estimate (from the shape's volume, the mesh's area
 // and the voxel size; nothing is sampled or built) against what the build makes, within 30%.
 TEST(Estimate, BoxSolidParticlesAtAModerateSpacingWithinThirtyPercent) {
   // 0.3^3 m^3 / 0.005^3 m^3 = 216000 particles.
@@ -160,7 +160,7 @@ SceneError refusal(const std::string& text, bool force = false) {
 }
 
 TEST(Estimate, MemoryBombsAreRefusedNamingTheValue) {
-  // issue 14: each of these passed 8 GB and was killed; the estimate refuses them at once.
+  // Each of these once passed 8 GB and was killed; the estimate refuses them at once.
   const SceneError cells = refusal(sheet_scene(R"({"type": "flat", "size": [1, 1], "cells": [10000, 10000]})"));
   EXPECT_EQ(cells.json_path(), "/shells/0/patch/cells");
   EXPECT_THAT(cells.message(), HasSubstr("more than the budget of 8.0 GiB"));
@@ -192,7 +192,7 @@ TEST(Estimate, RenderResolutionAndVoxelSizeDriveMemory) {
 }
 
 TEST(Estimate, TinyVoxelSizeIsRefusedBeforeTheLevelSet) {
-  // issue 14: voxel_size 3e-5 grew past 4 GB in OpenVDB; the ellipsoid's area (about 0.6 m^2) over
+  // voxel_size 3e-5 once grew past 4 GB in OpenVDB; the ellipsoid's area (about 0.6 m^2) over
   // voxel^2 times the 6-voxel band is billions of voxels.
   const std::string mesh = std::string(SHELLFRAC_SOURCE_DIR) + "/scenes/meshes/ellipsoid.obj";
   const SceneError e = refusal(sheet_scene(R"({"type": "flat", "size": [1, 1], "cells": [2, 2]})",
@@ -236,7 +236,7 @@ TEST(Estimate, EndlessRunsNeedForce) {
 TEST(Estimate, CylinderAndConeCountsMatchTheAllocatedOnes) {
   // Curved patches: the control points of the rational arcs (pieces of at most 90 degrees), and the grid
   // nodes the built simulation activates at its first step (control points and shear particles on the
-  // grid, the blocks of their stencils and the forward neighbours). The issue asks for the grid within
+  // grid, the blocks of their stencils and the forward neighbours). The grid need only be within
   // 20%; counting the blocks from the particle positions gives them exactly (measured: equal for all five).
   for (const std::string& patch :
        {std::string(R"({"type": "flat", "size": [1, 2], "cells": [5, 7]})"),

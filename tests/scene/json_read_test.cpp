@@ -140,7 +140,7 @@ TEST(SceneValues, RefusedLikeTheFile) {
   EXPECT_EQ(refusal(s).json_path(), "/shells/0/patch/cells/0");
 
   s = sheet_in_code();
-  s.grid.transfer = "polypic";  // "flip" is a transfer since issue 15
+  s.grid.transfer = "polypic";  // not "flip": a valid transfer
   e = refusal(s);
   EXPECT_EQ(e.json_path(), "/grid/transfer");
   EXPECT_EQ(e.message(), "unknown value \"polypic\": allowed are \"adaptive\", \"pic\", \"apic\", \"flip\", \"aflip\"");

@@ -1,4 +1,4 @@
-// Strict reading of scene text (issue 14): duplicate keys, numbers beyond a double, nesting, control
+// Strict reading of scene text: duplicate keys, numbers beyond a double, nesting, control
 // characters in names, unique shell names, the degree the solver supports, the file size cap, and mesh
 // files that cannot become a level set. Each case checks the JSON pointer and the reason.
 #include <gmock/gmock.h>
@@ -71,7 +71,7 @@ TEST(StrictJson, DeepNestingAndSyntaxErrorsAreRefused) {
 }
 
 TEST(StrictJson, ControlCharactersInNamesAreRefused) {
-  // The injection of issue 14: a newline would start new OBJ lines.
+  // Guards against injection: a newline would start new OBJ lines.
   const SceneError e = error_of(sheet(R"("name": "sheet\nv 9 9 9\nf 1 2 999999", )"));
   EXPECT_EQ(e.json_path(), "/shells/0/name");
   EXPECT_THAT(e.message(), HasSubstr("control character 0x0a at byte 5"));

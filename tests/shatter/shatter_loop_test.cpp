@@ -151,7 +151,7 @@ TEST(ShatterLoop, FragmentsKeepMassMomentumAndAngularMomentum) {
   EXPECT_LE(std::abs(e.volume_change), 1e-9);  // the exact cutter's fragments sum to the cube
 }
 
-// Siblings are cut from one solid and touch along the crack. The criterion is that their
+// Siblings are cut from one solid and touch along the crack. The target is that their
 // collision shapes overlap by no more than their margins at birth: NOT MET. Hulls and meshes only
 // approximate curved crack faces (measured on this cube: hulls overlap by up to 20.6 mm, a tetrahedron
 // decomposition of the surface by 3.1 mm at 34K contacts per step, GImpact meshes report 32 mm for two

@@ -241,14 +241,14 @@ std::pair<double, double> spinning_cut_sheet(const std::string& grid) {
   return {dp, dL};
 }
 
-// Issue 27's validation, linear part: through the cut and the phantom contact of its two halves the
+// Momentum across a cut, linear part: through the cut and the phantom contact of its two halves the
 // linear momentum is kept to 1e-10 under the default, APIC and PIC (measured about 1e-16).
 TEST(AdaptiveTransfer, SpinningCutSheetKeepsLinearMomentum) {
   for (const std::string grid : {"", R"("grid": {"transfer": "apic"},)", R"("grid": {"transfer": "pic"},)"})
     EXPECT_LE(spinning_cut_sheet(grid).first, 1e-10) << grid;
 }
 
-// Known failure (2026-12-06), kept with issue 27's criterion: angular momentum to 1e-10 relative.
+// Known failure (2026-12-06): the criterion is angular momentum to 1e-10 relative.
 // Measured over the 400 steps: 4.3e-3 under the default (the FLIP share of the intact control points
 // carries a part of each velocity the grid never sees, and adding the mean residual back to the
 // dissipating particles keeps linear momentum, not angular), 3.0e-6 under APIC (not traced yet; the shear

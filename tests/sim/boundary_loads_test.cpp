@@ -1,4 +1,4 @@
-// Boundary conditions, loads, initial velocity fields and probes (issue 15): load totals against their
+// Boundary conditions, loads, initial velocity fields and probes: load totals against their
 // closed forms, momentum balance with the pins' reactions, and plate statics against Kirchhoff theory.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

@@ -131,7 +131,7 @@ HangingSeam hanging_seam(bool corrected) {
 }
 
 // Nested knots, 10 leader cells along the seam against 20 follower cells and a grid of 5 cm (the
-// smallest cell): the leader is twice as coarse as the grid along the seam. The criterion on the
+// smallest cell): the leader is twice as coarse as the grid along the seam. The criterion on the
 // seam stress ratio above, at rest: corrected below 2, uncorrected above. A seamless sheet hanging from
 // its top edge has sigma = rho g (L - s) at depth s, so the ratio of its top to its median is 2 by
 // itself: at rest the criterion lies on the physics of the hanging sheet.
@@ -144,7 +144,7 @@ TEST(Coupling, MomentumCorrectionKeepsTheCoarseLeaderSeamUnderTwo) {
 }
 
 TEST(Coupling, DISABLED_UncorrectedCoarseLeaderSeamIsAboveTwo) {
-  // Known failure: measured 1.968 at 3 s, criterion above 2 (the issue's). The uncorrected run does not
+  // Known failure: measured 1.968 at 3 s, criterion above 2. The uncorrected run does not
   // come to rest by 3 s, where the corrected run rests at 0.6 s: the follower's two coupled rows keep up
   // to 1.8 cm/s in their top fifth, below the pins, since without the correction they keep the grid's
   // velocity while their positions are reset (momentum_correction_test.cpp). Their stress is not raised

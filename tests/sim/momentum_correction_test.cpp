@@ -45,8 +45,8 @@ std::string sheet_scene(int left_cells, int right_cells, bool corrected, bool pi
     s += R"(, "pins": [{"shell": "left", "region": {"u": [0, 0.01]}, "motion": {"linear_velocity": [0, 0.05, 0]}},
                      {"shell": "right", "region": {"u": [0.99, 1]}, "motion": {"linear_velocity": [0, -0.05, 0]}}])";
   }
-  // The thesis's least-squares seam (Eq. 4.29) is what sec. 4.8.1.1 corrects; exact closure is the
-  // default since issue 12 and would move the leader's coarse rows as well.
+  // The thesis's least-squares seam (Eq. 4.29) is what sec. 4.8.1.1 corrects; exact closure, the
+  // default, would move the leader's coarse rows as well.
   s += R"(, "interfaces": [{"a": {"shell": "left", "side": "u1"}, "b": {"shell": "right", "side": "u0"},
                             "continuity": "C1", "closure": "least_squares", "momentum_correction": )" +
        std::string(corrected ? "true" : "false") + "}]}";
@@ -105,7 +105,7 @@ TEST(MomentumCorrection, KeepsTheShearedSeamStressRatioUnderTwo) {
               corrected.max_ratio, uncorrected.max_ratio, corrected.max_row_offset, uncorrected.max_row_offset,
               corrected.max_row_velocity_offset, uncorrected.max_row_velocity_offset);
   // Measured 1.647 and 2.65 (the uncorrected peak sits in the follower's second cell from the seam, just
-  // behind the coupled rows, mid-seam). Asserted with about 15% margin either side of the issue's 2.
+  // behind the coupled rows, mid-seam). Asserted with about 15% margin either side of 2.
   EXPECT_LT(corrected.max_ratio, 1.85);
   EXPECT_GT(uncorrected.max_ratio, 2.3);
   // Both variants leave the coupled rows exactly on the Eq. 4.29/4.34 targets (1 m sheet: absolute 1e-12 m).

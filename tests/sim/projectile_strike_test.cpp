@@ -25,7 +25,7 @@ std::string free_pane(double speed) {
 }
 
 // Gravity off, nothing else touching either: the momentum the marble loses is the momentum the pane
-// gains, step by step (1e-6 relative, issue 29), and the marble slows.
+// gains, step by step (1e-6 relative), and the marble slows.
 TEST(ProjectileStrike, MarbleLosesTheMomentumThePaneGains) {
   Simulation sim(scene::build_model(free_pane(10.0), "pane.json"));
   ASSERT_FALSE(sim.shatter().empty());

@@ -60,7 +60,7 @@ TEST(SeamCracks, ACrackReachingTheSeamContinuesMirroredIntoTheNeighbour) {
 }
 
 TEST(SeamCracks, CracksThatReachBothSidesNearlyTogetherCrossTheSeamOnce) {
-  // Issue 27 item 4: a cut in each patch reaches the seam, the left one (leader) at v = 0.5 and the right
+  // A cut in each patch reaches the seam, the left one (leader) at v = 0.5 and the right
   // one 1 cm further up (a tenth of a cell). The coupling takes them as one crossing, at the leader's
   // position, so that no sliver of seam between two crossings is tied to neither side; a right cut that
   // reaches the seam three cells away is a crossing of its own.
@@ -183,7 +183,7 @@ TEST(SeamCracks, TornGarmentComesApartOnlyWhereTheCrackCrossesItsSeams) {
   EXPECT_EQ(pieces(sim), 2);  // bodice with the upper skirt, and the lower skirt
   // Every seam stays closed except within two leader cells of where a crack meets it. The garment's
   // knots are nested across every seam, so closed means round-off (measured 3.4e-16 m): 1e-9 x the
-  // garment's size (the issue's limit). Before corner seams re-placed their row 1 last, the skirt's
+  // garment's size (the default limit). Before corner seams re-placed their row 1 last, the skirt's
   // seams opened by 0.3 mm next to the corners where a C1 row 2 of one seam is row 1 of another.
   double worst = 0;
   size_t crossed = 0;
@@ -216,7 +216,7 @@ TEST(SeamCracks, TornGarmentComesApartOnlyWhereTheCrackCrossesItsSeams) {
 namespace shellfrac::sim {
 namespace {
 
-// Issue 27 item 4: the L of three patches with a 20-cell top (nested with the corner's 10), whose tear
+// The L of three patches with a 20-cell top (nested with the corner's 10), whose tear
 // crosses both C1 seams, runs its whole second under the default transfer without diverging and comes
 // apart in two, and both seams cross each crack once (no two crossings of a seam closer than a cell).
 // It diverged once its crack crossed the corner/top seam while the two patches' crossings, 1.2 cm apart,

@@ -1,4 +1,4 @@
-// Exact seam closure (the default since issue 12) when cracks cross the seam, and when a patch follows
+// Exact seam closure (the default) when cracks cross the seam, and when a patch follows
 // on one seam and leads on another: away from the crack the two edges coincide to round-off.
 #include <gtest/gtest.h>
 
@@ -12,7 +12,7 @@
 namespace shellfrac::sim {
 namespace {
 
-// Round-off closure: the issue asks for 1e-9 x model size; what exact closure gives is some 1e-16 m on
+// Round-off closure: the limit is 1e-9 x model size; what exact closure gives is some 1e-16 m on
 // a 1 m sheet, so 1e-12 x model size is well above round-off and far below any least-squares fit.
 constexpr double kRoundOff = 1e-12;
 
@@ -83,8 +83,8 @@ TEST(SeamExact, NonNestedSeamStaysClosedToRoundOffWhereNoCrackCrossesIt) {
 
 TEST(SeamExact, NonNestedSeamStaysClosedToRoundOffAfterACutCrossesIt) {
   // A cut at v = 0.4 across both patches (between the shared knots 0 and 0.5): the halves come apart
-  // and each keeps its part of the seam closed to round-off away from the crack. Before issue 12 the
-  // cut seam fell back to least-squares rows and the gap jumped to 1e-5 m.
+  // and each keeps its part of the seam closed to round-off away from the crack. The cut seam
+  // once fell back to least-squares rows and the gap jumped to 1e-5 m.
   const std::string cut = R"({"points": [[0.0, 0.4], [1.0, 0.4]]})";
   const scene::Model exact = scene::build_model(two_patch_scene(cut, ""), "seam.json");
   const double size = output::model_size(exact);
@@ -143,7 +143,7 @@ double l_worst_gap(const char* transfer, double end) {
   return worst;
 }
 
-// The issue's limit on a coupled seam's gap: 1e-9 x model size (the L spans 1 m x 1 m: sqrt(2) m).
+// The default limit on a coupled seam's gap: 1e-9 x model size (the L spans 1 m x 1 m: sqrt(2) m).
 constexpr double kLGapLimit = 1e-9 * 1.4142135623730951;
 
 // "pic" and "apic" test those transfers themselves (the thesis's, and the one the seam rows' affine
@@ -151,11 +151,11 @@ constexpr double kLGapLimit = 1e-9 * 1.4142135623730951;
 class SeamExactUnderTransfer : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(SeamExactUnderTransfer, APatchThatFollowsOnOneSeamAndLeadsOnAnotherClosesExactly) {
-  // Refused before issue 12 ("also set by the seam at ..."). Now the seam that sets the corner's rows is
+  // Once refused ("also set by the seam at ..."); now the seam that sets the corner's rows is
   // coupled first and the leader points it sets are held in the other seam's projection. (The corner's
   // pins stay off its seam rows: a pin there would make the default fall back to least squares.)
   // Run to 0.35 s under PIC and APIC, to 0.30 s under the default: a regression check of the gap while
-  // the run lasts, not the issue's criterion (0.40 s, the DISABLED_ test below). The 13-cell top shares
+  // the run lasts, not the full criterion (0.40 s, the DISABLED_ test below). The 13-cell top shares
   // no interior knot with the corner, so exact closure extrapolates the corner's whole top edge from the
   // two points the other seam sets at its end, and the sheet gains energy under every transfer
   // (docs/coupling.md, "Limitations"; not yet fixed): PIC lasts to 0.66 s; the default, whose shear
@@ -163,8 +163,7 @@ TEST_P(SeamExactUnderTransfer, APatchThatFollowsOnOneSeamAndLeadsOnAnotherCloses
   // Not round-off: the corner point the other seam sets is held in this seam's projection by a weight
   // of 1e8 times its mass (sim/seam_coupling.cpp), so the shared spline passes through it only to about
   // 1e-8 of its motion; measured 1.06e-10 m (pic), 1.04e-10 m (apic), 5.65e-10 m (adaptive). Asserted
-  // against the issue's limit, 1e-9 x model size (before issue 12 the scene was refused; least squares
-  // gives 1e-4 m on the 10/13 seam).
+  // against the default limit, 1e-9 x model size (least squares gives 1e-4 m on the 10/13 seam).
   const double end = std::string(GetParam()) == "adaptive" ? 0.30 : 0.35;
   EXPECT_LE(l_worst_gap(GetParam(), end), kLGapLimit);
 }

@@ -1,4 +1,4 @@
-// The transfer's numerical damping (issue 15): free vibration of a simply supported plate against
+// The transfer's numerical damping: free vibration of a simply supported plate against
 // Kirchhoff plate theory, a swinging sheet against the pin reaction and its own amplitude, a
 // free-floating bent sheet against energy conservation, and breakable shells against intact ones.
 #include <gtest/gtest.h>
@@ -73,7 +73,7 @@ PlateVibrationCase thin_plate_under_the_default() {
 
 TEST(Vibration, SimplySupportedPlateKeepsItsFirstMode) {
   // a/t = 100, 16 x 16 cells, cfl 1, the default transfer (no grid.transfer key: the adaptive transfer,
-  // under which the intact elastic plate runs affine-FLIP with share 1): issue 15 asks zeta <= 0.02 over
+  // under which the intact elastic plate runs affine-FLIP with share 1): it must keep zeta <= 0.02 over
   // 5 periods and the period within 2% of 2 pi / omega_11. The period error left is the spatial
   // discretisation's (docs/shell-model.md).
   PlateVibrationCase c = thin_plate_under_the_default();
@@ -82,7 +82,7 @@ TEST(Vibration, SimplySupportedPlateKeepsItsFirstMode) {
               v.period / v.reference_period, v.extrema, v.steps);
   EXPECT_EQ(v.extrema, 11);  // 5 whole periods measured
   EXPECT_LE(v.damping_ratio, 0.02);
-  // The issue's 2%. Measured +1.60% with the adaptive transfer's shear mass share of 0.2
+  // Within 2%. Measured +1.60% with the adaptive transfer's shear mass share of 0.2
   // (scene::model::kAdaptiveShearMassShare); with the default share of 0.5 it was +3.15%.
   EXPECT_NEAR(v.period, v.reference_period, 0.02 * v.reference_period);
   // PIC (the thesis's transfer) beside it, over one reference period: the thin plate does not swing back.
@@ -96,7 +96,7 @@ TEST(Vibration, SimplySupportedPlateKeepsItsFirstMode) {
 TEST(Vibration, BreakablePlateVibratesLikeTheIntactOne) {
   // The a/t = 100 plate of SimplySupportedPlateKeepsItsFirstMode with a fracture material it never
   // reaches (failure stress 0.1 E): it can crack, and under the default it runs the adaptive transfer
-  // like the intact plate until damage appears, which it never does. Issue 27 asks zeta <= 0.02 and
+  // like the intact plate until damage appears, which it never does. It must keep zeta <= 0.02 and
   // the period within 2% of the intact plate's. The thesis's PIC (cracking_shells "pic", the
   // default until this change) over-damps it: no oscillation.
   PlateVibrationCase c = thin_plate_under_the_default();
@@ -116,7 +116,7 @@ TEST(Vibration, BreakablePlateVibratesLikeTheIntactOne) {
 }
 
 TEST(Vibration, SimplySupportedPlatePeriodConvergesAt32Cells) {
-  // The same plate at 32 x 32 cells over 2 periods: the period within the issue's 2% of 2 pi / omega_11
+  // The same plate at 32 x 32 cells over 2 periods: the period within 2% of 2 pi / omega_11
   // (measured +0.07%, zeta 5e-5).
   PlateVibrationCase c;
   c.thickness = c.side / 100;
@@ -132,7 +132,7 @@ TEST(Vibration, SimplySupportedPlatePeriodConvergesAt32Cells) {
 }
 
 TEST(Vibration, FreeFloatingBentSheetKeepsItsEnergy) {
-  // No gravity, no pins: kinetic + elastic energy must stay constant; issue 15 asks 2% over 2 s. The
+  // No gravity, no pins: kinetic + elastic energy must stay constant, to 2% over 2 s. The
   // adaptive transfer runs the intact sheet as pure affine-FLIP (share 1); at 32 x 8 cells the
   // drift was 0.75% with "aflip" share 1. The drift is the lumped kinetic energy's discretisation error,
   // not a loss (16 x 4 cells: 2.9%, oscillating, back to +2.4% after 2 s); any PIC share loses energy
@@ -163,7 +163,7 @@ TEST(Vibration, PendulumSheetKeepsSwingingAndObeysThePinReaction) {
   // under gravity -z; the patch is built in that position, so it starts unstrained. Linear momentum
   // changes only by the pin reaction and the weight of the free particles: dp = dt (R + M_free g) in
   // every step (a discrete identity of the transfers, to round-off). After 3 swings (periods) the
-  // amplitude is at least 90% of the start (issue 15), with the adaptive transfer.
+  // amplitude is at least 90% of the start, with the adaptive transfer.
   const double L = 0.2, g = 9.81;
   sim::Simulation sim(scene::build_model(R"({"name": "pendulum", "gravity": [0, 0, -9.81], "time": {"cfl": 1.0},
     "grid": {"transfer": "adaptive"},
@@ -241,7 +241,7 @@ std::vector<double> turning_angles(const BoardSwing& b) {
 }
 
 TEST(Vibration, BreakableBoardSwingsLikeTheIntactOne) {
-  // Issue 27: with a fracture material that never triggers (sigma_f = 1 GPa; the bending stress at the
+  // With a fracture material that never triggers (sigma_f = 1 GPa; the bending stress at the
   // hinge stays near 2 MPa) the board must swing as the intact one does: after three half swings (the
   // third turning point) at least 99% of its starting angle, and its free edge within 1 mm of the intact
   // board's at every sample. Under PIC for shells that can crack (cracking_shells "pic", the default
@@ -278,7 +278,7 @@ TEST(Vibration, BreakableBoardSwingsLikeTheIntactOne) {
 // the hinged part), and RPIC on its shear particles. While the shear particles ran PIC (they carried no
 // affine velocity at all) this board sank at about 0.1 m/s and never turned, as under PIC.
 TEST(Vibration, TornBoardSwingsOn) {
-  // Issue 27: torn pieces must keep their swing. The same board, cut through across its width at u = 0.6
+  // Torn pieces must keep their swing. The same board, cut through across its width at u = 0.6
   // (a torn board whose outer 0.2 m has come off), swings on its hinge as a 0.3 m board. Probed at
   // u = 0.4, whose NURBS support lies on the hinged side. By default (cracking_shells
   // "pic_while_damaged") the cut shell, never damaged, runs the adaptive transfer: after three half swings

@@ -1,4 +1,4 @@
-"""Counts the loose parts of a shellfrac frame as Blender sees them: the real-client check of issue 12.
+"""Counts the loose parts of a shellfrac frame as Blender sees them: a real-client check of our counts.
 
     blender -b --factory-startup -noaudio --python-exit-code 1 -P count_loose_parts.py -- FRAME [--join]
         [--weld-distance D]

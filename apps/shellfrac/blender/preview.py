@@ -33,7 +33,7 @@ from shellfrac_mesh import (  # noqa: E402  (next to this file, in the repositor
     welded_parts, WELD_DISTANCE)
 
 PREFIX = "shellfrac-preview: "
-STRAND_STRETCH = 3.0  # the strand threshold: a render edge over 3x its rest length
+STRAND_STRETCH = 3.0  # strand threshold: a render edge over 3x its rest length
 
 
 def say(message):

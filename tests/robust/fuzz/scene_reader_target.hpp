@@ -1,5 +1,5 @@
 #pragma once
-// The fuzz target of the scene reader (issue 14), shared by the libFuzzer build
+// The fuzz target of the scene reader, shared by the libFuzzer build
 // (scripts/fuzz_scene_reader.sh) and the bounded mutation test of the suite.
 #include <string>
 
