@@ -1,5 +1,5 @@
 #pragma once
-// Stopping a run between steps on SIGINT, SIGTERM or SIGHUP (issue 14, "Signals"). The handler only
+// Stopping a run between steps on SIGINT, SIGTERM or SIGHUP. The handler only
 // records the signal; the run driver (output/run.cpp) polls interrupt_signal() between steps, keeps
 // every complete frame, writes an "interrupted" summary and returns. A second SIGINT while the first is
 // pending ends the process at once (the default action), for a run stuck inside a long step.

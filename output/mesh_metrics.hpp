@@ -1,5 +1,5 @@
 #pragma once
-// What the render mesh of a frame shows (issue 12): the pieces it falls into across patches and coupled
+// What the render mesh of a frame shows: the pieces it falls into across patches and coupled
 // seams, the slivers too small to count as pieces, and how far its faces are stretched against the rest
 // mesh. A strand of fully damaged material joining two fragments shows up here, whatever the crack
 // counters say. docs/cli.md ("metrics") defines each number.

@@ -160,6 +160,12 @@ CrackReport crack_report(const sim::Simulation& sim) {
   r.rigid_mass = total.rigid_mass;
   r.removed_area = total.removed_area;
   r.removed_mass = total.removed_mass;
+  for (size_t i = 0; i < sim.world().num_shells(); ++i) {
+    const shell::ShellPatch& p = sim.world().shell(i);
+    const double added = p.added_mass_total(), mass = p.control_mass_total();
+    r.added_mass += added;
+    if (mass > 0) r.added_mass_share = std::max(r.added_mass_share, added / mass);
+  }
   return r;
 }
 

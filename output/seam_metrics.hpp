@@ -10,7 +10,7 @@
 
 namespace shellfrac::output {
 
-// How well one interface holds together in the current state (issue 5's verification; thesis sec. 4.8).
+// How well one interface holds together in the current state (thesis sec. 4.8).
 struct SeamMeasurement {
   std::string json_path;      // "/interfaces/i"
   // Largest distance [m] between the two edges at the same edge parameter (the leader's mapped affinely
@@ -54,8 +54,8 @@ SeamThresholds seam_thresholds(const scene::Model& scene, const scene::model::In
 
 // Default limit on the seam stress ratio. The largest value of a shipped coupled scene is 2.2e3, at
 // the drapes' first contact with the ball (frame 1, where the median stress is a fraction of a pascal);
-// settled scenes stay below 50. A seam that drags material along gives orders more (1.3e7 in the
-// issue's L-sheet). Measured values in docs/coupling.md ("Stress ratio", "Shipped scenes").
+// settled scenes stay below 50. A seam that drags material along gives orders more (1.3e7 in an
+// L-sheet run). Measured values in docs/coupling.md ("Stress ratio", "Shipped scenes").
 inline constexpr double kDefaultMaxStressRatio = 1e4;
 
 // Default limit on metrics.peak_edge_stretch (render-edge length over rest length, largest in any

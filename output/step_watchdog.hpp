@@ -1,5 +1,5 @@
 #pragma once
-// Progress on time even inside one long step (issue 14, "Progress on time, not frames"). The run driver
+// Progress reported on time, not per frame, even inside one long step. The run driver
 // records where it is before every step and every frame export; a thread of this watchdog wakes every
 // `period` and, once the current activity has run for a period and a progress line falls due before the
 // next wake-up (5 s after the last line, 0.1 s for the terminal bar), prints the last recorded state and

@@ -55,6 +55,8 @@ Json cracks_json(const CrackReport& c) {
                 {"membrane_only", c.membrane_only}, {"slivers", c.slivers}, {"rigid_area", c.rigid_area},
                 {"rigid_mass", c.rigid_mass},   {"removed_area", c.removed_area}, {"removed_mass", c.removed_mass}};
   if (c.first_sliver) j["basis"]["first_sliver"] = *c.first_sliver;
+  j["basis"]["added_mass"] = c.added_mass;
+  j["basis"]["added_mass_share"] = c.added_mass_share;
   return j;
 }
 
@@ -127,6 +129,8 @@ CrackReport cracks_from(const Json& j) {
   c.removed_area = get<double>(basis, "removed_area");
   c.removed_mass = get<double>(basis, "removed_mass");
   c.first_sliver = get_optional<std::string>(basis, "first_sliver");
+  c.added_mass = get_optional<double>(basis, "added_mass").value_or(0.0);
+  c.added_mass_share = get_optional<double>(basis, "added_mass_share").value_or(0.0);
   return c;
 }
 

@@ -55,6 +55,9 @@ struct CrackReport {
   size_t nudged = 0, membrane_only = 0, slivers = 0;
   double rigid_area = 0, rigid_mass = 0, removed_area = 0, removed_mass = 0;
   std::optional<std::string> first_sliver;
+  // Mass scaling (cracks.mass_scaling): added mass over all patches now [kg], and the largest share of a
+  // patch's control-point mass it makes up.
+  double added_mass = 0, added_mass_share = 0;
 };
 
 // The render mesh of the last frame (metrics.pieces, ...) and the largest stretch seen in any frame.

@@ -49,6 +49,7 @@ model::CrackSettings build_cracks(const Cracks& c) {
   out.max_support = c.max_support.value_or(out.max_support);
   out.shadow_offset = c.shadow_offset.value_or(out.shadow_offset);
   out.tip_diffraction = c.tip_weights.value_or("diffraction") == "diffraction";
+  out.mass_scaling = c.mass_scaling.value_or(out.mass_scaling);
   return out;
 }
 

@@ -1,8 +1,9 @@
 #pragma once
 // The scene format, declared once. Each describe() lists the keys of one JSON object of a scene file with
 // their field, type, allowed range and whether they are required, plus the rules that tie fields
-// together. Three visitors walk these declarations (scene/visitors.hpp): the JSON reader (type checks,
-// ranges, unknown keys), the validator (the same checks on a scene built in C++) and the JSON writer.
+// together. Three visitors walk these declarations: the JSON reader (json_read.cpp: type checks, ranges,
+// unknown keys), the validator (validate.cpp: the same checks on a scene built in C++) and the JSON
+// writer (json_write.cpp).
 //
 // A visitor V provides, for a key and a field:
 //   number, integer, boolean, string, choice, numbers<N>, integers<N>, number_list, points2, points3,
@@ -577,6 +578,7 @@ void describe(V& v, Cracks& c) {
   v.number("max_support", c.max_support, Range::closed(1.5, 10.0));
   v.number("shadow_offset", c.shadow_offset, Range::open(0.0, 0.01));
   v.choice("tip_weights", c.tip_weights, {"visibility", "diffraction"});
+  v.number("mass_scaling", c.mass_scaling, Range::closed(0.0, 0.1));
 }
 
 template <class V>

@@ -1,5 +1,5 @@
 #pragma once
-// What a scene will cost before anything big is allocated (issue 14): particle, quadrature point, grid,
+// What a scene will cost before anything big is allocated: particle, quadrature point, grid,
 // render and level-set counts with their memory, the number of steps and frames, and the disk a run
 // writes. Everything comes from the scene's numbers and cheap geometry (patch sizes, knot spans, mesh
 // bounds and areas read from the mesh file, no level set), so `validate` and `run` can refuse a scene

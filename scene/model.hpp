@@ -261,14 +261,14 @@ struct Pin {
   bool holds_all(size_t k) const { return held.empty() || held[k].size() == 3; }
 };
 
-// One pass/fail limit of `shellfrac verify coupling`: no value takes the default (sim/seam_metrics.hpp),
+// One pass/fail limit of `shellfrac verify coupling`: no value takes the default (output/seam_metrics.hpp),
 // checked = false (JSON null) turns the check off.
 struct VerifyLimit {
   std::optional<double> value;
   bool checked = true;
 };
 
-// The interface's "verify" object: limits on the measured seam (sim/seam_metrics.hpp).
+// The interface's "verify" object: limits on the measured seam (output/seam_metrics.hpp).
 struct InterfaceVerify {
   VerifyLimit max_gap;            // [m]
   VerifyLimit max_angle_degrees;  // between the two patches' normals along the seam
@@ -308,6 +308,9 @@ struct CrackSettings {
   // surface stays closed at tips and around bends, docs/mls.md "Tip weights"), false = the thesis's
   // straight-line visibility (sec. 4.6).
   bool tip_diffraction = true;
+  // Selective mass scaling beside cracks (ShellPatch::set_mass_scaling_budget): at most this share of a
+  // patch's control-point mass is added to the points whose cut bases would shrink the step; 0 adds none.
+  double mass_scaling = 0.0;
 };
 
 struct TimeSettings {

@@ -414,6 +414,7 @@ struct Cracks {
   Opt<bool> phantom_nodes;
   Opt<double> contact_friction, max_support, shadow_offset;
   Opt<std::string> tip_weights;  // "visibility" or "diffraction"
+  Opt<double> mass_scaling;      // added-mass budget beside cracks, a share of each patch's mass
 };
 
 struct Scene {

@@ -1,4 +1,4 @@
-// Strict reading of scene text (issue 14). nlohmann's DOM parser keeps the last of two equal keys and
+// Strict reading of scene text. nlohmann's DOM parser keeps the last of two equal keys and
 // reports an overflowing number without a position, so the text is first walked by a small scanner that
 // knows where it is (JSON pointer, byte offset) and refuses what the DOM would hide. The scanner only
 // judges what it understands; a syntax error makes it stop, and nlohmann's parser then reports it with

@@ -1,5 +1,5 @@
 #pragma once
-// Reading scene text before the format's own checks (issue 14, "Strict JSON"): the file is read with a
+// Reading scene text before the format's own checks: the file is read with a
 // size cap (so /dev/zero or a runaway generator cannot fill memory), and the JSON is parsed event by event
 // so that what nlohmann's DOM parser lets through is refused with the JSON pointer, line and column:
 // duplicate keys (nlohmann keeps the last one silently), numbers too large for a double (1e999), and

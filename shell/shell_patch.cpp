@@ -46,7 +46,8 @@ ShellPatch::ShellPatch(const nurbs::NurbsSurface& reference, const ShellMaterial
     failure_stress_.assign(param_.size(), material_.fracture.failure_stress);
     brittleness_.assign(param_.size(), material_.brittleness);
   }
-  reference_stiffness_ = basis_stiffness_ = compute_basis_stiffness();
+  added_mass_.assign(x.size(), 0.0);
+  reference_stiffness_ = basis_stiffness_ = stiffness_of(basis_rows());
 }
 
 nurbs::NurbsSurface ShellPatch::current_surface() const {

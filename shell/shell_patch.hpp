@@ -255,6 +255,16 @@ class ShellPatch {
   double membrane_step_scale() const;
   double bending_step_scale() const;
 
+  // Selective mass scaling beside cracks: after every basis change the control points whose basis
+  // stiffness per mass exceeds the uncut sheet's get the least added mass that brings them back to it,
+  // within `budget` x the patch's control-point mass; beyond the budget the stiffest points keep a ratio
+  // kappa > 1 and the step shrinks by 1 / sqrt(kappa). 0 (the default) adds none. The added mass moves
+  // with the point (World::refresh_control_mass) and carries momentum like the rest.
+  void set_mass_scaling_budget(double budget) { mass_scaling_budget_ = budget; }
+  const std::vector<double>& added_mass() const { return added_mass_; }
+  double added_mass_total() const;
+  double control_mass_total() const;
+
  private:
   // The damage history of some layer of in-plane point q reached 1 (damage_history_ not empty).
   bool point_fully_damaged(size_t q) const;
@@ -304,7 +314,7 @@ class ShellPatch {
   // True when the crack separates xi from any control point of the NURBS support of `cell`.
   bool nurbs_support_cut(const Vec2& xi, size_t cell, const crack2d::CrackIndex& index) const;
   void rebuild_mls_gather();
-  BasisStiffness compute_basis_stiffness() const;
+
   // The patch's arrays and constants as the Type IV kernels read them.
   Type4Data type4_data();
   // Lays the NURBS basis derivatives out in lanes of eight consecutive points (basis_lanes_).
@@ -346,6 +356,15 @@ class ShellPatch {
   std::vector<std::pair<int, int>> mls_gather_;     // (slot, support entry)
   size_t num_mls_points_ = 0;
   BasisStiffness reference_stiffness_, basis_stiffness_;  // of the uncut NURBS bases; of the current ones
+  // The row sums of basis_stiffness per control point, before dividing by the mass.
+  struct BasisRows {
+    std::vector<double> membrane, bending;
+  };
+  BasisRows basis_rows() const;
+  BasisStiffness stiffness_of(const BasisRows& rows) const;  // with the added mass
+  void choose_added_mass(const BasisRows& rows);
+  double mass_scaling_budget_ = 0;
+  std::vector<double> added_mass_;  // per control point, >= 0
   // Deterministic gather of per-cell forces: control point c receives cell_force_[gather_[k]] for
   // k in gather_offsets_[c] .. gather_offsets_[c+1].
   std::vector<Vec3> cell_force_;

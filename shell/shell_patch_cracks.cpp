@@ -190,11 +190,13 @@ CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t fi
   for (int32_t s : point_slot_) report.mls_points += s >= 0 && slots_[static_cast<size_t>(s)].level < BasisLevel::Rigid;
   for (int32_t s : shear_slot_) report.mls_shear += s >= 0 && slots_[static_cast<size_t>(s)].level < BasisLevel::Rigid;
   num_mls_points_ = report.mls_points;
-  basis_stiffness_ = compute_basis_stiffness();
+  const BasisRows rows = basis_rows();
+  choose_added_mass(rows);
+  basis_stiffness_ = stiffness_of(rows);
   return report;
 }
 
-ShellPatch::BasisStiffness ShellPatch::compute_basis_stiffness() const {
+ShellPatch::BasisRows ShellPatch::basis_rows() const {
   const double lu = control_grid_.cell_u, lv = control_grid_.cell_v;
   std::vector<double> membrane(x.size(), 0.0), bending(x.size(), 0.0);
   std::vector<double> a, b;
@@ -232,13 +234,66 @@ ShellPatch::BasisStiffness ShellPatch::compute_basis_stiffness() const {
     if (slot >= 0 && slots_[static_cast<size_t>(slot)].level >= BasisLevel::Rigid) continue;
     add_point(shear_basis(c), shear.volume[c], false);
   }
+  return {std::move(membrane), std::move(bending)};
+}
+
+ShellPatch::BasisStiffness ShellPatch::stiffness_of(const BasisRows& rows) const {
   BasisStiffness out;
   for (size_t i = 0; i < x.size(); ++i) {
     if (!(mass[i] > 0)) continue;
-    out.membrane = std::max(out.membrane, membrane[i] / mass[i]);
-    out.bending = std::max(out.bending, bending[i] / mass[i]);
+    const double m = mass[i] + added_mass_[i];
+    out.membrane = std::max(out.membrane, rows.membrane[i] / m);
+    out.bending = std::max(out.bending, rows.bending[i] / m);
   }
   return out;
+}
+
+void ShellPatch::choose_added_mass(const BasisRows& rows) {
+  std::fill(added_mass_.begin(), added_mass_.end(), 0.0);
+  if (!(mass_scaling_budget_ > 0)) return;
+  // Added mass for a ratio kappa above the uncut sheet's: m_i' = max(m_i, k_i / (kappa k_ref)) per term.
+  // Points within round-off of the reference ratio get none, so an uncut patch stays bit-for-bit the same.
+  auto need = [&](double kappa, size_t i) {
+    double m = mass[i];
+    auto raise = [&](double row, double reference) {
+      const double target = kappa * reference * (1 + 1e-9);
+      if (reference > 0 && row > target * m) m = row / target;
+    };
+    raise(rows.membrane[i], reference_stiffness_.membrane);
+    raise(rows.bending[i], reference_stiffness_.bending);
+    return m - mass[i];
+  };
+  auto total = [&](double kappa) {
+    double sum = 0;
+    for (size_t i = 0; i < x.size(); ++i)
+      if (mass[i] > 0) sum += need(kappa, i);
+    return sum;
+  };
+  const double budget = mass_scaling_budget_ * control_mass_total();
+  // The smallest kappa >= 1 whose added mass fits the budget (the total falls as kappa grows).
+  double lo = 1.0, hi = 1.0;
+  if (total(1.0) > budget) {
+    while (total(hi) > budget && hi < 1e12) hi *= 2;
+    for (int it = 0; it < 60; ++it) {
+      const double mid = std::sqrt(lo * hi);
+      (total(mid) > budget ? lo : hi) = mid;
+    }
+    lo = hi;
+  }
+  for (size_t i = 0; i < x.size(); ++i)
+    if (mass[i] > 0) added_mass_[i] = need(lo, i);
+}
+
+double ShellPatch::added_mass_total() const {
+  double sum = 0;
+  for (double m : added_mass_) sum += m;
+  return sum;
+}
+
+double ShellPatch::control_mass_total() const {
+  double sum = 0;
+  for (double m : mass) sum += m;
+  return sum;
 }
 
 double ShellPatch::membrane_step_scale() const {

@@ -151,6 +151,7 @@ CrackSystem::CrackSystem(const scene::Model& model, World& world, double grid_dx
           patch.set_failure_stress(q, patch.failure_stress(q) * core::weibull_factor(f.weibull, q), patch.brittleness(q));
     }
     if (!f.enabled && s.cuts.empty()) continue;
+    patch.set_mass_scaling_budget(model.cracks.mass_scaling);
     const auto& ku = s.surface.knots_u();
     const auto& kv = s.surface.knots_v();
     const crack2d::Box domain{{ku.domain_begin(), kv.domain_begin()}, {ku.domain_end(), kv.domain_end()}};
@@ -178,7 +179,8 @@ bool CrackSystem::any() const {
   return false;
 }
 
-void CrackSystem::record_update(const World& world, size_t shell, const shell::CrackUpdate& u) {
+void CrackSystem::record_update(World& world, size_t shell, const shell::CrackUpdate& u) {
+  world.refresh_control_mass(shell);
   if (stats_.first_mls_failure.empty() && !u.first_failure.empty())
     stats_.first_mls_failure = "shell \"" + world.shell_name(shell) + "\" " + u.first_failure;
   if (stats_.first_sliver.empty() && !u.first_sliver.empty())

@@ -69,7 +69,8 @@ class CrackSystem {
   void count_state(const World& world);
 
  private:
-  void record_update(const World& world, size_t shell, const shell::CrackUpdate& u);
+  // Notes the update's first failures and refreshes the shell's control-point masses (mass scaling).
+  void record_update(World& world, size_t shell, const shell::CrackUpdate& u);
 
   std::vector<std::unique_ptr<crack2d::ConsistentCrackExtractor>> cracks_;  // per shell, null if it cannot crack
   shell::MlsSettings mls_settings_;

@@ -82,10 +82,10 @@ World::World(const scene::Model& model) {
   // elastic force is the support reaction, not a load on their free neighbours), and act on the rest of
   // the shell through the elastic forces alone.
   // Points held in only some directions (rollers, symmetry planes) keep their mass (sim/pin_system.hpp).
-  const std::vector<std::vector<bool>> kinematic = kinematic_points(model);
-  for (size_t i = 0; i < kinematic.size(); ++i)
-    for (size_t k = 0; k < kinematic[i].size(); ++k)
-      if (kinematic[i][k]) transfer_mass_[i][k] = 0.0;
+  kinematic_ = kinematic_points(model);
+  for (size_t i = 0; i < kinematic_.size(); ++i)
+    for (size_t k = 0; k < kinematic_[i].size(); ++k)
+      if (kinematic_[i][k]) transfer_mass_[i][k] = 0.0;
 
   // Per patch: the control points (Type II: mass, momentum, generalized force) and the shear
   // particles (Type III: grid stress term, and the velocity gradient that advects their director).
@@ -122,6 +122,16 @@ World::World(const scene::Model& model) {
     sets_.push_back(solids_[k].view());
     sets_.back().flip = model.grid.flip;  // one share for all sets keeps momentum exact (sparse_grid.cpp)
   }
+}
+
+void World::refresh_control_mass(size_t i) {
+  shell::ShellPatch& p = patches_[i];
+  std::vector<double>& m = transfer_mass_[i];
+  const std::vector<double>& added = p.added_mass();
+  // The velocity is kept, not the momentum: the added mass is a numerical inertia that moves with its
+  // point, and a moving sheet must not be jolted where a crack changes its bases.
+  for (size_t k = 0; k < m.size(); ++k)
+    if (k >= kinematic_[i].size() || !kinematic_[i][k]) m[k] = p.mass[k] + added[k];
 }
 
 std::string World::describe_particle(size_t s, size_t k) const {
@@ -161,7 +171,7 @@ size_t World::num_quadrature_points() const {
 double World::kinetic_energy() const {
   double e = 0;
   for (const auto& p : patches_) {
-    for (size_t k = 0; k < p.v.size(); ++k) e += 0.5 * p.mass[k] * p.v[k].squaredNorm();
+    for (size_t k = 0; k < p.v.size(); ++k) e += 0.5 * (p.mass[k] + p.added_mass()[k]) * p.v[k].squaredNorm();
     for (size_t k = 0; k < p.shear.v.size(); ++k) e += 0.5 * p.shear.mass[k] * p.shear.v[k].squaredNorm();
   }
   for (const auto& s : solids_)
@@ -182,7 +192,8 @@ double World::advected_kinetic_energy() const {
   double e = 0;
   for (size_t i = 0; i < patches_.size(); ++i) {
     const auto& p = patches_[i];
-    for (size_t k = 0; k < p.v.size(); ++k) e += 0.5 * p.mass[k] * advected_velocity(p, flip_part_[i], k).squaredNorm();
+    for (size_t k = 0; k < p.v.size(); ++k)
+      e += 0.5 * (p.mass[k] + p.added_mass()[k]) * advected_velocity(p, flip_part_[i], k).squaredNorm();
   }
   for (const auto& s : solids_)
     for (size_t k = 0; k < s.size(); ++k) e += 0.5 * s.mass[k] * s.v[k].squaredNorm();

@@ -43,8 +43,12 @@ class World {
   // Human-readable name of particle k of set s ("control point 12 of shell \"sheet\"").
   std::string describe_particle(size_t s, size_t k) const;
 
-  // Control-point masses as the grid sees them: zero where a pin drives the point kinematically.
+  // Control-point masses as the grid sees them: the lumped mass plus any added by mass scaling
+  // (ShellPatch::added_mass), zero where a pin drives the point kinematically.
   const std::vector<double>& transfer_mass(size_t shell) const { return transfer_mass_[shell]; }
+  // After the shell's bases (and so its added mass) changed: the new transfer masses. Velocities are
+  // kept, so the momentum of the added mass appears with it (at most the budget's share).
+  void refresh_control_mass(size_t shell);
   // APIC affine velocities of the control points (empty for PIC).
   std::vector<Eigen::Matrix3d>& affine(size_t shell) { return affine_[shell]; }
   // Affine velocities of the shear particles, of which they keep the rotational part (RPIC; empty for PIC).
@@ -83,6 +87,7 @@ class World {
   std::vector<std::vector<Eigen::Matrix3d>> shear_affine_;  // RPIC C_p per shear particle
   std::vector<std::vector<Eigen::Vector3d>> flip_part_;  // FLIP transfers: r_p delta_p per control point
   std::vector<std::vector<double>> transfer_mass_;    // control point mass, zero where pinned
+  std::vector<std::vector<bool>> kinematic_;          // per control point: a pin drives it
   std::vector<std::string> shell_names_, solid_names_;
   std::vector<mpm::ParticleSet> sets_;
   std::vector<SetRef> layout_;

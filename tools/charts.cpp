@@ -98,6 +98,13 @@ std::string quoted(const std::string& s) {
   return q + "'";
 }
 
+// A tic label: gnuplot reads it as a format, so a literal % is written twice.
+std::string tic_label(const std::string& s) {
+  std::string t;
+  for (char c : s) t += c == '%' ? std::string("%%") : std::string(1, c);
+  return (quoted)(t);  // parenthesised: no argument-dependent lookup of std::quoted
+}
+
 // A string column inside a gnuplot data block.
 std::string data_string(const std::string& s) {
   std::string q = "\"";
@@ -272,9 +279,9 @@ void coloured_table_chart(const fs::path& png, const std::string& title, const s
   const double rows = static_cast<double>(row_names.size()), cols = static_cast<double>(column_names.size());
   gp << "set title " << quoted(title) << "\nunset key\nset border 0\nset xrange [-0.5:" << cols - 0.5
      << "]\nset yrange [" << rows - 0.5 << ":-0.5]\nset x2tics nomirror scale 0 (";
-  for (size_t c = 0; c < column_names.size(); ++c) gp << (c ? ", " : "") << quoted(column_names[c]) << " " << c;
+  for (size_t c = 0; c < column_names.size(); ++c) gp << (c ? ", " : "") << tic_label(column_names[c]) << " " << c;
   gp << ")\nunset xtics\nset ytics nomirror scale 0 (";
-  for (size_t r = 0; r < row_names.size(); ++r) gp << (r ? ", " : "") << quoted(row_names[r]) << " " << r;
+  for (size_t r = 0; r < row_names.size(); ++r) gp << (r ? ", " : "") << tic_label(row_names[r]) << " " << r;
   gp << ")\nset style fill solid 1.0 border lc rgb 'white'\n";
   gp << "plot $d using 1:2:(0.5):(0.5):3 with boxxyerror lc rgb variable, "
      << "$d using 1:2:4 with labels font 'Sans,9'\n";

@@ -270,6 +270,11 @@ std::vector<StabilityCase> stability_cases(bool full, const RunLimits& limits) {
     c.variant = "single velocity field";
     c.definition.cracks.phantom_nodes = false;
     cases.push_back(c);
+    // Selective mass scaling beside the cut: the step of the uncut sheet, or nearly, for 1 % added mass.
+    c = tear;
+    c.variant = "mass scaling 1%";
+    c.definition.cracks.mass_scaling = 0.01;
+    cases.push_back(c);
   }
   add_transfer_variants(tear, true);
   add_dt_variants(tear);
@@ -293,7 +298,7 @@ std::vector<StabilityCase> stability_cases(bool full, const RunLimits& limits) {
     c.variant = "C1 without momentum correction";
     c.definition.interfaces[0].momentum_correction = false;
     cases.push_back(c);
-    // The default seam closes exactly (issue 12); the thesis's least-squares Eq. 4.29 beside it.
+    // The default seam closes exactly; the thesis's least-squares Eq. 4.29 beside it.
     c = drape;
     c.variant = "C1 least-squares closure";
     c.definition.interfaces[0].closure = std::string("least_squares");

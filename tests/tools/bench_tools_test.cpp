@@ -208,6 +208,14 @@ TEST(BenchTools, TinyStabilityMapClassifiesAnUnstableStepAsAFailure) {
   // within half a cell of the ball, so its default outcome is not asserted here.)
   EXPECT_EQ(outcome["tear"]["default"], "completed");
   EXPECT_EQ(outcome["tear"]["dt 0.5x bound"], "completed");
+  EXPECT_EQ(outcome["tear"]["mass scaling 1%"], "completed");
+  {
+    // The tiny tear's notch gives MLS bases from the first step; 1 % added mass beside it widens the step.
+    std::map<std::string, double> dt_ratio;
+    for (const auto& r : csv)
+      if (r.at("scene") == "tear") dt_ratio[r.at("variant")] = std::stod(r.at("dt_over_bound"));
+    EXPECT_GT(dt_ratio.at("mass scaling 1%"), dt_ratio.at("default"));
+  }
   for (const char* scene : {"tear", "drape"}) {
     EXPECT_NE(outcome[scene]["dt 0.5x bound"], "NaN") << scene;
     EXPECT_NE(outcome[scene]["dt 0.5x bound"], "energy blow-up") << scene;
