@@ -77,6 +77,8 @@ FractureEvent fracture_event(const BrittleSolid& solid, const TriMesh& domain, c
       co.seed += 7919;
     }
   }
+  // The chevron detail moves the fragments' crack faces (the crack surface output below stays flat).
+  ev.detail = add_fracture_detail(ev.fragments, solid.rest, solid.damage, o.detail, fo.density);
   const auto t2 = std::chrono::steady_clock::now();
   ev.crack_surface = crack_surface_mesh(ev.crack);
   const double clip_voxel = o.clip_voxel > 0 ? o.clip_voxel : 0.25 * co.grid.spacing;
@@ -122,7 +124,7 @@ nlohmann::json fracture_summary(const FractureEvent& ev) {
                       {"crack_faces", {{"interior", c.interior_faces}, {"extension", c.extension_faces}}},
                       {"crack_area_inside", surface_area(ev.crack_surface_clipped)},
                       {"regions", ev.regions.count},
-                      {"seconds", {{"extract", ev.seconds_extract}, {"cut", ev.seconds_cut}}},
+                      {"seconds", {{"extract", ev.seconds_extract}, {"cut", ev.seconds_cut}, {"detail", ev.detail.seconds}}},
                       {"fragments", fragments_json(ev.fragments)}};
   if (!ev.gap_fragments.fragments.empty()) j["gap_fragments"] = fragments_json(ev.gap_fragments);
   if (ev.breakage_order)
@@ -132,6 +134,11 @@ nlohmann::json fracture_summary(const FractureEvent& ev) {
                                           {"fixed_corners", ev.smoothing.fixed_corners},
                                           {"rejected_moves", ev.smoothing.rejected_moves},
                                           {"max_displacement", ev.smoothing.max_displacement}}}};
+  if (ev.detail.crack_vertices > 0)
+    j["detail"] = {{"crack_vertices", ev.detail.crack_vertices}, {"timed_vertices", ev.detail.timed_vertices},
+                   {"lines", ev.detail.lines},                   {"enhanced_lines", ev.detail.enhanced_lines},
+                   {"longest_line", ev.detail.longest_line},     {"moved_vertices", ev.detail.moved_vertices},
+                   {"max_displacement", ev.detail.max_displacement}, {"folded_triangles", ev.detail.folded_triangles}};
   return j;
 }
 

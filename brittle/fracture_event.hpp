@@ -5,6 +5,7 @@
 #include "brittle/breakage_order.hpp"
 #include "brittle/brittle_solid.hpp"
 #include "brittle/crack_surface.hpp"
+#include "brittle/fracture_detail.hpp"
 #include "brittle/fragments.hpp"
 
 namespace shellfrac::brittle {
@@ -17,6 +18,7 @@ struct FractureEventOptions {
   double clip_voxel = 0;          // voxel of the clipped crack surface; 0 = h_v / 4
   int attempts = 3;               // new site jitter seeds tried when a region boundary does not close
   BreakageOrderOptions breakage;  // crack along the valleys of the damage time (off by default)
+  FractureDetailOptions detail;   // chevron marks on the crack faces (sec. 3.7; off by default)
 };
 
 // Everything one fracture event produces (thesis sec. 3.3-3.5), in the object's material space.
@@ -31,6 +33,7 @@ struct FractureEvent {
   TriMesh crack_surface_clipped;  // the part inside the object
   FragmentSet fragments;          // region n object
   FragmentSet gap_fragments;      // object minus the thickened crack (only with gap_width > 0)
+  FractureDetailReport detail;    // what the chevron detail did (zeros when off)
   double seconds_extract = 0, seconds_cut = 0;
 };
 

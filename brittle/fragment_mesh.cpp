@@ -93,7 +93,7 @@ std::vector<TriMesh> split_solids(const TriMesh& mesh) {
   return solids;
 }
 
-size_t transfer_attributes(TriMesh& piece, const TriMesh& domain, double tol, double uv_scale) {
+size_t transfer_attributes(TriMesh& piece, const TriMesh& domain, double tol, double uv_scale, std::vector<char>* crack_faces) {
   Vec3 lo, hi;
   bounding_box(domain, lo, hi);
   const TriangleIndex index(domain.positions, domain.triangles, std::max((hi - lo).norm() / 64.0, 4.0 * tol), tol);
@@ -108,6 +108,7 @@ size_t transfer_attributes(TriMesh& piece, const TriMesh& domain, double tol, do
     const TriangleIndex::Hit hit = index.closest((a + b + c) / 3.0, tol);
     const bool on_input = hit.found && index.triangle_normal(hit.triangle).dot(nn) > 0.9;
     if (!on_input) ++crack;
+    if (crack_faces) crack_faces->push_back(on_input ? 0 : 1);
     Tri nt;
     for (int k = 0; k < 3; ++k) {
       const Vec3& p = piece.positions[t[k]];
@@ -146,7 +147,7 @@ void add_fragments(FragmentSet& set, const TriMesh& cut, int region, const TriMe
     Fragment f;
     f.region = region;
     f.properties = mass_properties(solid, o.density);
-    f.crack_triangles = transfer_attributes(solid, domain, tol, o.uv_scale);
+    f.crack_triangles = transfer_attributes(solid, domain, tol, o.uv_scale, &f.crack_faces);
     f.mesh = std::move(solid);
     set.fragments.push_back(std::move(f));
   }

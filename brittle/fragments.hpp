@@ -30,6 +30,7 @@ struct Fragment {
   MassProperties properties;
   int region = -1;         // the Voronoi region it was cut from (-1 for the thickened-crack cut)
   size_t crack_triangles = 0;  // triangles on new (crack) surface, the rest come from the input
+  std::vector<char> crack_faces;  // per triangle of mesh: 1 on the crack surface (fracture detail reads it)
 };
 
 struct FragmentSet {
@@ -75,8 +76,9 @@ TriMesh clip_to_domain(const TriMesh& crack_surface, const TriMesh& domain, doub
 std::vector<TriMesh> split_solids(const TriMesh& mesh);
 // Per-vertex normals and UVs for a cut piece: triangles lying on the input surface take the input's
 // attributes (interpolated on the source triangle), the others (crack faces) a flat normal and a box
-// projection. Returns the number of crack triangles.
-size_t transfer_attributes(TriMesh& piece, const TriMesh& domain, double surface_tolerance, double uv_scale);
+// projection. Returns the number of crack triangles; `crack`, when given, gets 1 per crack triangle.
+size_t transfer_attributes(TriMesh& piece, const TriMesh& domain, double surface_tolerance, double uv_scale,
+                           std::vector<char>* crack = nullptr);
 // Builds the FragmentSet from the cut pieces of each region: splits, attributes, mass properties, names.
 void add_fragments(FragmentSet& set, const TriMesh& cut, int region, const TriMesh& domain, const FragmentOptions& o,
                    double surface_tolerance);

@@ -98,6 +98,7 @@ std::vector<BrittleSolidReport> BrittleWriter::reports(const sim::Simulation& si
       r.event = true;
       r.stage_seconds.emplace_back("event_extract", ev.seconds_extract);
       r.stage_seconds.emplace_back("event_cut", ev.seconds_cut);
+      r.stage_seconds.emplace_back("event_detail", ev.detail.seconds);
       if (written_[i]) {
         r.fragments_file = files_[i][0];
         r.crack_file = files_[i][1];
@@ -113,6 +114,11 @@ std::vector<BrittleSolidReport> BrittleWriter::reports(const sim::Simulation& si
       r.regions = static_cast<size_t>(ev.regions.count);
       r.breakage_order = ev.breakage_order;
       r.merged_regions = static_cast<size_t>(ev.merged_regions);
+      r.detail = ev.detail.crack_vertices > 0;
+      r.detail_lines = ev.detail.lines;
+      r.detail_moved_vertices = ev.detail.moved_vertices;
+      r.detail_max_displacement = ev.detail.max_displacement;
+      r.detail_folded_triangles = ev.detail.folded_triangles;
       for (const brittle::Fragment& f : set.fragments) {
         BrittleFragmentReport fr;
         fr.name = f.mesh.name;
@@ -169,6 +175,11 @@ Json brittle_json(const std::vector<BrittleSolidReport>& reports) {
       j["crack_area"] = r.crack_area;
       j["regions"] = r.regions;
       if (r.breakage_order) j["breakage_order"] = {{"merged_regions", r.merged_regions}};
+      if (r.detail)
+        j["detail"] = {{"lines", r.detail_lines},
+                       {"moved_vertices", r.detail_moved_vertices},
+                       {"max_displacement", r.detail_max_displacement},
+                       {"folded_triangles", r.detail_folded_triangles}};
       Json pieces = Json::array();
       for (const BrittleFragmentReport& f : r.fragments)
         pieces.push_back({{"name", f.name},
@@ -234,6 +245,14 @@ std::vector<BrittleSolidReport> brittle_reports_from_json(const Json& list) {
         if (j.contains("breakage_order")) {
           r.breakage_order = true;
           r.merged_regions = j.at("breakage_order").at("merged_regions").get<size_t>();
+        }
+        if (j.contains("detail")) {
+          const Json& d = j.at("detail");
+          r.detail = true;
+          r.detail_lines = d.at("lines").get<size_t>();
+          r.detail_moved_vertices = d.at("moved_vertices").get<size_t>();
+          r.detail_max_displacement = d.at("max_displacement").get<double>();
+          r.detail_folded_triangles = d.at("folded_triangles").get<size_t>();
         }
         for (const Json& f : j.at("fragments")) {
           BrittleFragmentReport fr;

@@ -112,6 +112,10 @@ struct BrittleSolidReport {
   // merged for being under the minimum share.
   bool breakage_order = false;
   size_t merged_regions = 0;
+  // Chevron detail (fracture.detail): lines traced, crack vertices moved, the largest move [m].
+  bool detail = false;
+  size_t detail_lines = 0, detail_moved_vertices = 0, detail_folded_triangles = 0;
+  double detail_max_displacement = 0;
   std::vector<BrittleFragmentReport> fragments;  // largest first, slivers included (flagged)
   std::vector<std::pair<std::string, double>> stage_seconds;
   // The damage model ("rankine", "phase_field" or "nacc"); for the phase field its solve totals, for

@@ -317,6 +317,18 @@ model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t 
     out.event.breakage.min_share = fr.breakage_order->min_share.value_or(0.01);
     out.event.breakage.smoothing.passes = fr.breakage_order->smoothing_steps.value_or(out.event.breakage.smoothing.passes);
   }
+  if (fr.detail) {
+    // Table 3.2's lengths default to fractions of the crack grid: faces refined to h_v / 4, lines stepping
+    // one refined edge and marking h_v across (Table 3.3's s = 5 d), the heights smoothed over h_v / 2.
+    brittle::FractureDetailOptions& d = out.event.detail;
+    d.height = *fr.detail->height;
+    d.edge = fr.detail->edge.value_or(0.25 * h_v);
+    d.step = fr.detail->step.value_or(d.edge);
+    d.radius = fr.detail->radius.value_or(4.0 * d.edge);
+    d.grid = fr.detail->grid.value_or(0.5 * h_v);
+    d.max_steps = fr.detail->max_steps.value_or(d.max_steps);
+    d.enhanced = fr.detail->enhanced.value_or(d.enhanced);
+  }
   // Counting rule (docs/brittle.md): a piece smaller than one MPM cell, dx^3, cannot have been resolved
   // by the simulation; it is a sliver, kept in the mesh but not counted as a fragment.
   out.sliver_volume = fr.sliver_volume.value_or(dx * dx * dx);

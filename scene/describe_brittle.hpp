@@ -76,6 +76,17 @@ void describe(V& v, BreakageOrder& b) {
 }
 
 template <class V>
+void describe(V& v, FractureDetail& d) {
+  v.number("height", d.height, Range::positive(), kRequired);
+  v.number("edge", d.edge, Range::positive());
+  v.number("step", d.step, Range::positive());
+  v.integer("max_steps", d.max_steps, Range::closed(1, 100000));
+  v.number("radius", d.radius, Range::non_negative());
+  v.number("grid", d.grid, Range::positive());
+  v.number("enhanced", d.enhanced, Range::closed(0.0, 1.0));
+}
+
+template <class V>
 void describe(V& v, PhaseFieldMaterial& m) {
   v.number("length_scale", m.length_scale, Range::positive());
   v.number("mobility", m.mobility, Range::positive(), kRequired);
@@ -121,6 +132,7 @@ void describe(V& v, SolidFracture& f) {
   v.number("gap_width", f.gap_width, Range::non_negative());
   v.number("sliver_volume", f.sliver_volume, Range::non_negative());
   v.object("breakage_order", f.breakage_order);
+  v.object("detail", f.detail);
 }
 
 template <class V>

@@ -176,6 +176,13 @@ struct BreakageOrder {
   Opt<int> smoothing_steps;  // 0: the crack sheets stay staircases of the lattice's cells
 };
 
+// Chevron marks on the fragments' crack faces from the damage time (docs/brittle.md, thesis sec. 3.7,
+// brittle/fracture_detail.hpp). Lengths in metres; unset ones follow the crack grid spacing h_v.
+struct FractureDetail {
+  Opt<double> height, edge, step, radius, grid, enhanced;
+  Opt<int> max_steps;
+};
+
 // How the phase-field system is solved (docs/phase-field.md).
 struct PhaseFieldSolve {
   Opt<std::string> solver;    // "cg" or "cholmod"
@@ -194,6 +201,7 @@ struct SolidFracture {
   Opt<std::string> cutter;  // "exact", "level_set"
   Opt<double> voxel, gap_width, sliver_volume;
   Opt<BreakageOrder> breakage_order;
+  Opt<FractureDetail> detail;
 };
 
 // A mesh file placed in the scene (solids and colliders of shape "mesh").

@@ -82,6 +82,38 @@ TEST(BrittleSceneKeys, BreakageOrderSmoothingStepsReachTheEvent) {
   }
 }
 
+// fracture.detail reaches the event with Table 3.2's lengths defaulting to fractions of the crack grid
+// (h_v = 5 mm here); no height or a share outside [0, 1] is refused at its path.
+TEST(BrittleSceneKeys, FractureDetailKeysReachTheEvent) {
+  Scene s = load_scene(brittle_scene("notched-beam").string());
+  EXPECT_FALSE(build(s).brittle_solids[0].event.detail.enabled());  // off unless asked for
+  s.solids[0].fracture->detail = FractureDetail{};
+  s.solids[0].fracture->detail->height = 0.001;
+  const brittle::FractureDetailOptions d = build(s).brittle_solids[0].event.detail;
+  EXPECT_TRUE(d.enabled());
+  EXPECT_DOUBLE_EQ(d.height, 0.001);
+  EXPECT_DOUBLE_EQ(d.edge, 0.25 * 0.005);
+  EXPECT_DOUBLE_EQ(d.step, d.edge);
+  EXPECT_DOUBLE_EQ(d.radius, 4 * d.edge);
+  EXPECT_DOUBLE_EQ(d.grid, 0.5 * 0.005);
+  EXPECT_EQ(d.max_steps, 50);
+  EXPECT_DOUBLE_EQ(d.enhanced, 0.1);
+  s.solids[0].fracture->detail->enhanced = 1.5;
+  try {
+    build(s);
+    ADD_FAILURE() << "enhanced 1.5 was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.json_path(), "/solids/0/fracture/detail/enhanced");
+  }
+  s.solids[0].fracture->detail = FractureDetail{};
+  try {
+    build(s);
+    ADD_FAILURE() << "a detail without a height was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.json_path(), "/solids/0/fracture/detail/height");
+  }
+}
+
 // The phase-field keys reach the material and the solver options; defaults where the scene is silent
 // (l0 = 0 means half the grid spacing, r = 1e-3, CG, spline gradient, every step); a phase-field solid
 // given Rankine keys or no mobility, or a Rankine solid given a phase-field solve, is refused at its path.
