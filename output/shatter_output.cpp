@@ -24,6 +24,8 @@ void ShatterWriter::write_frame(const sim::Simulation& sim, int frame) {
       pieces.push_back(poly_mesh(loop.world_mesh(i)));
       poses[i] = loop.world().state(loop.pieces()[i].body).pose;
     }
+  // The static props stand in every frame, so that a frame is the whole shot.
+  for (const brittle::TriMesh& prop : loop.prop_meshes()) pieces.push_back(poly_mesh(prop));
   times_.push_back(static_cast<float>(sim.time()));
   poses_.push_back(std::move(poses));
   const fs::path dir = out_dir_ / "rigid";
@@ -63,6 +65,18 @@ std::string ShatterWriter::write_animation(const sim::Simulation& sim) {
       t.rotations.push_back(held ? held->rotation : Eigen::Quaterniond::Identity());
       t.scales.push_back(alive ? 1.0f : 0.0f);
     }
+  }
+  // Static props: their meshes where they stand, one constant key per frame.
+  for (const brittle::TriMesh& prop : loop.prop_meshes()) {
+    meshes.push_back(poly_mesh(prop));
+    render_mesh::NodeTrack t;
+    for (float time : times_) {
+      t.times.push_back(time);
+      t.translations.push_back(Eigen::Vector3d::Zero());
+      t.rotations.push_back(Eigen::Quaterniond::Identity());
+      t.scales.push_back(1.0f);
+    }
+    tracks.push_back(std::move(t));
   }
   const fs::path dir = out_dir_ / "rigid";
   const render_mesh::GltfDocument doc = render_mesh::gltf_document(meshes, "shatter.bin", tracks);

@@ -77,6 +77,33 @@ TriMesh read_obj(const std::filesystem::path& file, double scale, const BVec3& t
   return m;
 }
 
+std::filesystem::path mesh_path(const Builder& b, const MeshFile& mf) {
+  std::filesystem::path file(*mf.file);
+  if (file.is_relative()) file = std::filesystem::path(b.scene.source).parent_path() / file;
+  return file;
+}
+
+// The triangles of a mesh file, scaled and translated (OBJ keeps its UVs; other formats through assimp);
+// a file that cannot be read fails at path + "/file".
+TriMesh read_mesh_file(const Builder& b, const MeshFile& mf, const std::string& path) {
+  const std::filesystem::path file = mesh_path(b, mf);
+  const double scale = mf.scale.value_or(1.0);
+  const BVec3 translate = vec3_or(mf.translate, {0, 0, 0});
+  TriMesh m;
+  try {
+    if (file.extension() == ".obj" || file.extension() == ".OBJ") {
+      m = read_obj(file, scale, translate);
+    } else {
+      const TriangleMesh t = import_mesh(file.string(), scale, translate);
+      m.positions = t.vertices;
+      for (const Eigen::Vector3i& f : t.triangles) m.triangles.emplace_back(f[0], f[1], f[2]);
+    }
+  } catch (const std::exception& e) {
+    b.fail(path + "/file", file.string() + ": " + e.what());
+  }
+  return m;
+}
+
 // The object's surface: a primitive or a mesh file (OBJ keeps its UVs; other formats through assimp).
 // `repaired` says what "repair" changed, when it did.
 TriMesh solid_mesh(const Builder& b, const Solid& s, const std::string& path, std::string& repaired) {
@@ -91,21 +118,8 @@ TriMesh solid_mesh(const Builder& b, const Solid& s, const std::string& path, st
   } else if (*s.shape == "torus") {
     m = brittle::torus_mesh(c, *s.major_radius, *s.minor_radius, 48, 24);
   } else {
-    std::filesystem::path file(*s.mesh.file);
-    if (file.is_relative()) file = std::filesystem::path(b.scene.source).parent_path() / file;
-    const double scale = s.mesh.scale.value_or(1.0);
-    const BVec3 translate = vec3_or(s.mesh.translate, {0, 0, 0});
-    try {
-      if (file.extension() == ".obj" || file.extension() == ".OBJ") {
-        m = read_obj(file, scale, translate);
-      } else {
-        const TriangleMesh t = import_mesh(file.string(), scale, translate);
-        m.positions = t.vertices;
-        for (const Eigen::Vector3i& f : t.triangles) m.triangles.emplace_back(f[0], f[1], f[2]);
-      }
-    } catch (const std::exception& e) {
-      b.fail(path + "/file", file.string() + ": " + e.what());
-    }
+    const std::filesystem::path file = mesh_path(b, s.mesh);
+    m = read_mesh_file(b, s.mesh, path);
     // Refused here, with the file and its counts (holes, non-manifold edges and vertices, flipped
     // triangles), rather than by the exact cutter after the whole simulation. A mesh that passes is
     // used as it is (with its UVs), even with "repair".
@@ -385,8 +399,17 @@ model::RigidWorldSettings build_rigid_world(const Builder& b, const Opt<RigidWor
     const RigidProp& p = r.props[i];
     shatter::PropSpec prop;
     prop.name = p.name.value_or("prop" + std::to_string(i));
-    prop.centre = vec3(*p.center);
-    prop.half_extents = vec3(*p.half_extents);
+    if (p.shape == "mesh") {
+      // Any surface will do for a static Bullet mesh, open or closed; only its numbers must be finite.
+      const std::string path = "/rigid/props/" + std::to_string(i);
+      prop.mesh = read_mesh_file(b, p.mesh, path);
+      if (brittle::inspect_mesh(prop.mesh).non_finite > 0)
+        b.fail(path + "/file", mesh_path(b, p.mesh).string() + ": the mesh has NaN or infinite coordinates");
+      prop.mesh.name = prop.name;
+    } else {
+      prop.centre = vec3(*p.center);
+      prop.half_extents = vec3(*p.half_extents);
+    }
     prop.surface = rigid::Surface{p.friction.value_or(0.5), p.restitution.value_or(0.2)};
     prop.material = brittle::HertzBody{p.youngs_modulus.value_or(3e10), p.poisson_ratio.value_or(0.2)};
     w.props.push_back(prop);

@@ -181,8 +181,15 @@ void describe(V& v, Projectile& p) {
 template <class V>
 void describe(V& v, RigidProp& p) {
   v.string("name", p.name);
-  v.numbers("center", p.center, Range::any(), kRequired);
-  v.numbers("half_extents", p.half_extents, Range::positive(), kRequired);
+  v.choice("shape", p.shape, {"box", "mesh"});
+  if (p.shape == "mesh") {
+    v.string("file", p.mesh.file, kRequired);
+    v.number("scale", p.mesh.scale, Range::positive());
+    v.numbers("translate", p.mesh.translate, Range::any());
+  } else {
+    v.numbers("center", p.center, Range::any(), kRequired);
+    v.numbers("half_extents", p.half_extents, Range::positive(), kRequired);
+  }
   describe_static_surface(v, p.friction, p.restitution, p.youngs_modulus, p.poisson_ratio);
 }
 

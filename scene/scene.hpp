@@ -260,10 +260,13 @@ struct Projectile {
   Opt<bool> kinematic;
 };
 
-// A static box of the rigid-body world (a column, a table top).
+// A static prop of the rigid-body world: a box (a column, a table top) or a triangle mesh from a file
+// (a plinth, a staircase; any surface, open or closed), placed with the file's scale and translate.
 struct RigidProp {
   Opt<std::string> name;
+  Opt<std::string> shape;  // "box" (the default) or "mesh"
   Opt<Vec3> center, half_extents;
+  MeshFile mesh;           // file, scale, translate of a "mesh" prop
   Opt<double> friction, restitution, youngs_modulus, poisson_ratio;
 };
 

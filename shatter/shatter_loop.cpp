@@ -121,10 +121,18 @@ void ShatterLoop::add_static_mesh(const std::string& name, const brittle::TriMes
 }
 
 void ShatterLoop::add_prop(const PropSpec& prop) {
-  if (!(prop.half_extents.minCoeff() > 0)) throw core::InputError("prop \"" + prop.name + "\": half_extents must be > 0");
-  rigid::Pose pose;
-  pose.translation = prop.centre;
-  const int id = world_.add_static_box(prop.name, pose, prop.half_extents, prop.surface);
+  int id = -1;
+  if (!prop.mesh.triangles.empty()) {
+    id = world_.add_static_mesh(prop.name, prop.mesh, prop.surface);
+    prop_meshes_.push_back(prop.mesh);
+  } else {
+    if (!(prop.half_extents.minCoeff() > 0)) throw core::InputError("prop \"" + prop.name + "\": half_extents must be > 0");
+    rigid::Pose pose;
+    pose.translation = prop.centre;
+    id = world_.add_static_box(prop.name, pose, prop.half_extents, prop.surface);
+    prop_meshes_.push_back(brittle::box_mesh(prop.centre, prop.half_extents, 1));
+  }
+  prop_meshes_.back().name = prop.name;
   if (piece_of_body_.size() <= static_cast<size_t>(id)) piece_of_body_.resize(static_cast<size_t>(id) + 1, -1);
   static_material_[id] = prop.material;
 }

@@ -57,9 +57,11 @@ struct ProjectileSpec {
 };
 
 // A static box in the world (a column, a table top, a wall).
+// A static prop: a box at centre, or, when `mesh` has triangles, that mesh where it stands.
 struct PropSpec {
   std::string name;
   rigid::Vec3 centre = rigid::Vec3::Zero(), half_extents = rigid::Vec3::Zero();
+  brittle::TriMesh mesh;
   rigid::Surface surface;
   brittle::HertzBody material{3e10, 0.2};  // infinite radius and mass
 };
@@ -136,6 +138,8 @@ class ShatterLoop {
   double time() const { return time_; }
 
   const std::vector<Piece>& pieces() const { return pieces_; }   // alive and dead
+  // The static props' surfaces where they stand (boxes as box meshes), for the frames.
+  const std::vector<brittle::TriMesh>& prop_meshes() const { return prop_meshes_; }
   bool alive(size_t piece) const { return pieces_[piece].body >= 0; }
   rigid::Pose world_from_material(size_t piece) const;
   brittle::TriMesh world_mesh(size_t piece) const;
@@ -168,6 +172,7 @@ class ShatterLoop {
   std::map<std::pair<int, int>, std::deque<BodyImpact>> recent_;
   std::optional<GroundSpec> ground_;
   std::map<int, brittle::HertzBody> static_material_;  // static bodies other than the ground
+  std::vector<brittle::TriMesh> prop_meshes_;
   int ground_id_ = -1;
   std::vector<EventRecord> events_;
   ShatterTotals totals_;

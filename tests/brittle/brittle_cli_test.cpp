@@ -772,6 +772,69 @@ TEST(ShatterCli, ThrownPairBreaksInMidAir) {
   fs::remove_all(out);
 }
 
+// Static props from the scene stand in every frame and carry bodies: a box dropped onto an open mesh (a
+// single quad, a table top read from an OBJ file) comes to rest on it, 0.3 m above the ground, and a box
+// prop (a column) stands beside it. Each frame and the glTF hold both props where the scene put them.
+TEST(ShatterCli, PropsStandInEveryFrameAndCarryBodies) {
+  const fs::path out = scratch("props");
+  fs::create_directories(out);
+  {
+    std::ofstream obj(out / "table.obj");  // 0.6 x 0.6 m at z = 0, facing +z; placed 0.3 m up by translate
+    obj << "v -0.3 -0.3 0\nv 0.3 -0.3 0\nv 0.3 0.3 0\nv -0.3 0.3 0\nf 1 2 3 4\n";
+  }
+  const Json scene = Json::parse(R"({
+    "name": "props", "time": {"end": 0.6, "frame_rate": 10}, "gravity": [0, 0, -9.81],
+    "rigid": {"dt": 0.001,
+      "props": [{"name": "table", "shape": "mesh", "file": "table.obj", "translate": [0, 0, 0.3]},
+                {"name": "column", "center": [0.6, 0, 0.25], "half_extents": [0.05, 0.05, 0.25]}]},
+    "solids": [{"name": "block", "shape": "box", "center": [0, 0, 0.45], "half_extents": [0.05, 0.05, 0.05],
+      "spacing": 0.02, "sampling": "regular",
+      "material": {"E": 1e9, "nu": 0.25, "density": 1000, "failure_stress": 3e5, "fracture_energy": 10},
+      "fracture": {"grid_spacing": 0.02}, "rigid_body": {"impulse_threshold": 1e6}}]})");
+  {
+    std::ofstream f(out / "props.json");
+    f << scene.dump(1);
+  }
+  const Result r = shellfrac("run " + (out / "props.json").string() + " --out " + (out / "run").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(out / "run" / "summary.json");
+  const Json sh = Json::parse(in)["shatter"];
+  ASSERT_EQ(sh["frames"].size(), 7u);
+  for (const Json& frame : sh["frames"]) {
+    const ObjFile f = read_obj(out / "run" / frame.get<std::string>());
+    std::map<std::string, const ObjObject*> by_name;
+    for (const ObjObject& o : f.objects) by_name[o.name] = &o;
+    ASSERT_EQ(f.objects.size(), 3u) << frame;
+    ASSERT_TRUE(by_name.count("table") && by_name.count("column") && by_name.count("block")) << frame;
+    // The table's corners where the file and translate put them, the column's box to its half extents.
+    for (const auto& face : by_name["table"]->faces)
+      for (size_t p : face) {
+        EXPECT_NEAR(std::abs(f.points[p][0]), 0.3, 1e-6);
+        EXPECT_NEAR(std::abs(f.points[p][1]), 0.3, 1e-6);
+        EXPECT_NEAR(f.points[p][2], 0.3, 1e-6);
+      }
+    double top = -1;
+    for (const auto& face : by_name["column"]->faces)
+      for (size_t p : face) top = std::max(top, f.points[p][2]);
+    EXPECT_NEAR(top, 0.5, 1e-6);
+  }
+  // The block at rest on the table: its lowest point at the table's height (Bullet's margin: 2 mm).
+  const ObjFile last = read_obj(out / "run" / sh["frames"][6].get<std::string>());
+  double lowest = 1e9;
+  for (const ObjObject& o : last.objects)
+    if (o.name == "block")
+      for (const auto& face : o.faces)
+        for (size_t p : face) lowest = std::min(lowest, last.points[p][2]);
+  EXPECT_NEAR(lowest, 0.3, 2e-3);
+  // The glTF: a node and a channel with a key per frame for the block and each prop.
+  Assimp::Importer importer;
+  const aiScene* gltf = importer.ReadFile((out / "run" / "rigid" / "shatter.gltf").string(), 0);
+  ASSERT_NE(gltf, nullptr) << importer.GetErrorString();
+  EXPECT_EQ(gltf->mRootNode->mNumChildren, 3u);
+  ASSERT_EQ(gltf->mNumAnimations, 1u);
+  EXPECT_EQ(gltf->mAnimations[0]->mNumChannels, 3u);
+}
+
 TEST(ShatterCli, BadRigidInputIsRefusedWithItsPath) {
   const fs::path d = scratch("shatter-bad");
   const std::string box = R"("shape": "box", "center": [0, 0, 0.1], "half_extents": [0.05, 0.05, 0.05])";
@@ -808,6 +871,20 @@ TEST(ShatterCli, BadRigidInputIsRefusedWithItsPath) {
   const Result rc = shellfrac("validate " + (d / "colliders.json").string());
   EXPECT_EQ(rc.exit_code, 2) << rc.output;
   EXPECT_THAT(rc.output, HasSubstr("/rigid"));
+  // A mesh prop whose file is missing, and one that also gives a box's half extents.
+  Json missing = Json::parse(brittle_scene(box + body));
+  missing["rigid"] = {{"props", Json::array({{{"shape", "mesh"}, {"file", "no-such-table.obj"}}})}};
+  std::ofstream(d / "missing.json") << missing.dump();
+  const Result rm = shellfrac("validate " + (d / "missing.json").string());
+  EXPECT_EQ(rm.exit_code, 2) << rm.output;
+  EXPECT_THAT(rm.output, HasSubstr("/rigid/props/0/file"));
+  EXPECT_THAT(rm.output, HasSubstr("no-such-table.obj"));
+  Json both = missing;
+  both["rigid"]["props"][0]["half_extents"] = {0.1, 0.1, 0.1};
+  std::ofstream(d / "both.json") << both.dump();
+  const Result rb = shellfrac("validate " + (d / "both.json").string());
+  EXPECT_EQ(rb.exit_code, 2) << rb.output;
+  EXPECT_THAT(rb.output, HasSubstr("/rigid/props/0/half_extents"));
   fs::remove_all(d);
 }
 
