@@ -272,6 +272,20 @@ void ShellPatch::build_basis_lanes() {
       for (size_t k = 0; k < 5; ++k)
         basis_lanes_[((batch * n + s) * 5 + k) * kType4Lanes + lane] = basis_[(q * n + s) * kBasisStride + 1 + k];
   }
+  // Rest metrics and volumes in the same lanes, so that the kernel loads them instead of gathering
+  // (the rest metric of a plastic patch changes, so its kernel keeps gathering from ref_).
+  const size_t L = static_cast<size_t>(num_layers());
+  ref_lanes_.assign(batches * L * 4 * kType4Lanes, 0.0);
+  volume_lanes_.assign(batches * L * kType4Lanes, 0.0);
+  for (size_t q = 0; q < points; ++q) {
+    const size_t batch = q / kType4Lanes, lane = q % kType4Lanes;
+    for (size_t l = 0; l < L; ++l) {
+      const ReferenceLayer& r = ref_[q * L + l];
+      const double fields[4] = {r.g11, r.g12, r.g22, 1.0 / r.sqrt_det};  // the kernel multiplies by it
+      for (size_t k = 0; k < 4; ++k) ref_lanes_[((batch * L + l) * 4 + k) * kType4Lanes + lane] = fields[k];
+      volume_lanes_[(batch * L + l) * kType4Lanes + lane] = volume_[q * L + l];
+    }
+  }
 }
 
 Type4Data ShellPatch::type4_data() {
@@ -306,7 +320,10 @@ Type4Data ShellPatch::type4_data() {
 ForceFailure ShellPatch::compute_forces() {
   const Type4Data data = type4_data();
   const bool with_director = material_.stress_model == StressModel::DirectorF2D;
-  const bool batched = force_kernel_ == ForceKernel::Batched && num_layers() <= kType4MaxLayers;
+  const bool batched = force_kernel_ != ForceKernel::Scalar && num_layers() <= kType4MaxLayers;
+  // A plastic patch's rest metric changes, so its lanes are gathered from ref_ (build_basis_lanes).
+  const bool lane_ref = force_kernel_ == ForceKernel::Batched && !material_.plasticity.enabled;
+  const bool lane_volume = force_kernel_ == ForceKernel::Batched;
   const size_t n = static_cast<size_t>(support_size_), nq = param_.size();
   std::vector<unsigned char> cell_failed(num_cells_, 0);
   for (MlsSupport& m : slots_)
@@ -355,6 +372,9 @@ ForceFailure ShellPatch::compute_forces() {
       for (size_t first = q_begin - q_begin % kType4Lanes; first < q_end; first += kType4Lanes) {
         batch.active = 0;
         batch.basis = &basis_lanes_[first / kType4Lanes * n * 5 * kType4Lanes];
+        const size_t L = static_cast<size_t>(num_layers());
+        batch.ref_lanes = lane_ref ? &ref_lanes_[first / kType4Lanes * L * 4 * kType4Lanes] : nullptr;
+        batch.volume_lanes = lane_volume ? &volume_lanes_[first / kType4Lanes * L * kType4Lanes] : nullptr;
         const size_t fill = q_begin > first ? q_begin : first;  // a valid point for the inactive lanes
         size_t lane_cell[kType4Lanes];
         for (int i = 0; i < kType4Lanes; ++i) {

@@ -97,9 +97,11 @@ struct ForceFailure {
 };
 
 // Which implementation of the Type IV force compute_forces uses (shell/type4_kernel.hpp). Batched: NURBS
-// points eight at a time in vector lanes, MLS points by the scalar code; Scalar: every point by the scalar
-// reference (for tests and comparisons). The two agree to round-off.
-enum class ForceKernel { Batched, Scalar };
+// points eight at a time in vector lanes, their rest metrics and volumes stored in lane order, MLS points
+// by the scalar code; BatchedGathered: the same kernel gathering rest metrics and volumes per lane (what
+// the lane order saves, for bench_forces); Scalar: every point by the scalar reference (for tests and
+// comparisons). All agree to round-off.
+enum class ForceKernel { Batched, BatchedGathered, Scalar };
 
 // One NURBS patch of a Kirchhoff-Love shell, discretised as in thesis sec. 4.3:
 //  - Type II particles: the control points (position, velocity, lumped mass) — the advected DOFs;
@@ -336,6 +338,8 @@ class ShellPatch {
   // The same NURBS derivatives R_1 .. R_22 for the batched kernel: batch of 8 consecutive points x support x
   // 5 x 8 lanes (Type4Batch::basis); the last batch is padded with zeros.
   std::vector<double> basis_lanes_;
+  std::vector<double> ref_lanes_;     // [batch][layer][g11 g12 g22 1/sqrt_det][lane], as basis_lanes_
+  std::vector<double> volume_lanes_;  // [batch][layer][lane]
   ForceKernel force_kernel_ = ForceKernel::Batched;
   std::vector<ReferenceLayer> ref_; // in-plane points x layers: rest metric (rewritten by plasticity)
   std::vector<double> plastic_strain_;  // in-plane points x layers, only for plastic materials

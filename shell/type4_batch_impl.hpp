@@ -55,13 +55,14 @@ SF_INLINE Lanes lane_log_fibre_stretch(const Lanes& lnJ, double mu, double lambd
   return s;
 }
 
+// ref: g11, g12, g22 of the rest metric and 1 / sqrt of its determinant.
 SF_INLINE LaneStress lane_in_plane_stress(const Lanes3& g1, const Lanes3& g2, const Lanes ref[4], double mu,
                                           double lambda, shellfrac::shell::TransverseModel model, Lanes given) {
   using shellfrac::shell::TransverseModel;
   LaneStress s;
   const Lanes c11 = dot(g1, g1), c12 = dot(g1, g2), c22 = dot(g2, g2);
   const Lanes det = c11 * c22 - c12 * c12;
-  s.J = vsqrt(det) / ref[3];
+  s.J = vsqrt(det) * ref[3];  // ref[3]: 1 / sqrt(det of the rest metric), stored inverted
   // det > 0, J > 0 and finite (the scalar checks); NaN fails every comparison.
   s.ok = (det > 0.0) & (s.J > 0.0) & (s.J < __builtin_inf());
   const Lanes Jsafe = select(s.ok, s.J, splat(1.0));  // keep masked lanes finite in the iterations
@@ -240,11 +241,21 @@ SF_INLINE void lane_group(const shellfrac::shell::Type4Data& d, const shellfrac:
   for (size_t l = 0; l < L; ++l) {
     const double xi3 = d.mid_surface ? 0.0 : d.xi3[l];
     const size_t lref = d.mid_surface ? L / 2 : l;
-    const ReferenceLayer* rl[kLanes];
-    for (int i = 0; i < kLanes; ++i) rl[i] = &d.ref[q[i] * L + lref];
-    Lanes ref[4] = {gather([&](int i) { return rl[i]->g11; }), gather([&](int i) { return rl[i]->g12; }),
-                    gather([&](int i) { return rl[i]->g22; }), gather([&](int i) { return rl[i]->sqrt_det; })};
-    const Lanes V = gather([&](int i) { return d.volume[q[i] * L + l]; });
+    Lanes ref[4], V;
+    if (b.ref_lanes) {  // lane order: plain loads
+      for (int k = 0; k < 4; ++k) __builtin_memcpy(&ref[k], b.ref_lanes + (lref * 4 + k) * kType4Lanes + o, sizeof(Lanes));
+    } else {
+      const ReferenceLayer* rl[kLanes];
+      for (int i = 0; i < kLanes; ++i) rl[i] = &d.ref[q[i] * L + lref];
+      ref[0] = gather([&](int i) { return rl[i]->g11; });
+      ref[1] = gather([&](int i) { return rl[i]->g12; });
+      ref[2] = gather([&](int i) { return rl[i]->g22; });
+      ref[3] = 1.0 / gather([&](int i) { return rl[i]->sqrt_det; });
+    }
+    if (b.volume_lanes)
+      __builtin_memcpy(&V, b.volume_lanes + l * kType4Lanes + o, sizeof(Lanes));
+    else
+      V = gather([&](int i) { return d.volume[q[i] * L + l]; });
     const Lanes3 g1 = a1 + xi3 * dn1, g2 = a2 + xi3 * dn2;
     LaneStress st = lane_in_plane_stress(g1, g2, ref, d.mu, d.lambda, d.model, given);
     if (d.plastic) {
@@ -273,7 +284,7 @@ SF_INLINE void lane_group(const shellfrac::shell::Type4Data& d, const shellfrac:
             ref[0].set(i, r.g11);
             ref[1].set(i, r.g12);
             ref[2].set(i, r.g22);
-            ref[3].set(i, r.sqrt_det);
+            ref[3].set(i, 1.0 / r.sqrt_det);
           }
         }
       }

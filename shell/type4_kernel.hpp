@@ -76,6 +76,10 @@ struct Type4Batch {
   // Basis derivatives in lanes: basis[(s * 5 + k) * 8 + lane], k = R_1, R_2, R_11, R_12, R_22.
   const double* basis = nullptr;
   double r33[kType4Lanes] = {};          // given fibre stretch per lane
+  // Rest metrics ref_lanes[(l * 4 + k) * 8 + lane] (k: g11, g12, g22, 1 / sqrt_det) and volumes
+  // volume_lanes[l * 8 + lane] of the batch's points in lanes; null: gathered from Type4Data.
+  const double* ref_lanes = nullptr;
+  const double* volume_lanes = nullptr;
 };
 // Per lane: the force on each support control point (-dPsi/dx_s) and the status.
 struct Type4BatchResult {
