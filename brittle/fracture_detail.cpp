@@ -386,7 +386,7 @@ FractureDetailReport add_fracture_detail(FragmentSet& set, const std::vector<Vec
                                          double density) {
   FractureDetailReport report;
   if (!o.enabled()) return report;
-  if (!(o.edge > 0) || !(o.step > 0) || !(o.grid > 0) || !(o.radius >= 0) || o.max_steps < 0 ||
+  if (!(o.edge > 0) || !(o.step > 0) || !(o.grid > 0) || !(o.radius >= 0) || o.max_steps < 0 || !(o.max_triangles >= 1) ||
       !(o.enhanced >= 0 && o.enhanced <= 1))
     throw InputError("fracture detail: edge, step and grid must be positive, radius and max_steps not negative, "
                      "enhanced in [0, 1]");
@@ -395,6 +395,21 @@ FractureDetailReport add_fracture_detail(FragmentSet& set, const std::vector<Vec
   auto corner = [](const TriMesh& m, size_t t, int k) -> const Vec3& {
     return m.positions[static_cast<size_t>(m.triangles[t][k])];
   };
+
+  // The refinement's size is bounded before it runs: past max_triangles the edge grows to fit (the event
+  // keeps its fragments; the report says which edge was used).
+  double crack_area = 0;
+  for (const Fragment& frag : set.fragments)
+    if (has_crack(frag))
+      for (size_t t = 0; t < frag.mesh.triangles.size(); ++t)
+        if (frag.crack_faces[t])
+          crack_area += 0.5 * (corner(frag.mesh, t, 1) - corner(frag.mesh, t, 0)).cross(corner(frag.mesh, t, 2) - corner(frag.mesh, t, 0)).norm();
+  const double triangle_area = std::sqrt(3.0) / 4.0;  // of an equilateral triangle of unit edge
+  // Halving every edge longer than d leaves edges between d/2 and d, and the splits of one or two edges
+  // make some triangles skinny: their mean area measured 0.15 of the equilateral one at d (1.3x the
+  // budget with a factor of 4), so 8 keeps the count below the budget.
+  const double edge = std::max(o.edge, std::sqrt(8.0 * crack_area / (triangle_area * o.max_triangles)));
+  report.edge = edge;
 
   // 1. Refined crack faces; the crack vertices welded by position across the fragments, with the
   //    fragments that use each and whether the object's surface does too (a rim).
@@ -406,7 +421,7 @@ FractureDetailReport add_fracture_detail(FragmentSet& set, const std::vector<Vec
   for (size_t f = 0; f < set.fragments.size(); ++f) {
     Fragment& frag = set.fragments[f];
     if (!has_crack(frag)) continue;
-    refine_crack_faces(frag.mesh, frag.crack_faces, o.edge);
+    refine_crack_faces(frag.mesh, frag.crack_faces, edge);
     for (size_t t = 0; t < frag.mesh.triangles.size(); ++t) {
       if (!frag.crack_faces[t]) continue;
       for (int k = 0; k < 3; ++k) {
@@ -445,14 +460,14 @@ FractureDetailReport add_fracture_detail(FragmentSet& set, const std::vector<Vec
   //    sides were triangulated differently.
   std::vector<TriangleIndex> crack_index(set.fragments.size());
   std::vector<std::pair<Vec3, Vec3>> box(set.fragments.size());
-  const double reach = 2.0 * o.edge;
+  const double reach = 2.0 * edge;
   for (size_t f = 0; f < set.fragments.size(); ++f) {
     const Fragment& frag = set.fragments[f];
     if (!has_crack(frag)) continue;
     std::vector<Tri> tris;
     for (size_t t = 0; t < frag.mesh.triangles.size(); ++t)
       if (frag.crack_faces[t]) tris.push_back(frag.mesh.triangles[t]);
-    crack_index[f] = TriangleIndex(frag.mesh.positions, tris, o.edge, reach);
+    crack_index[f] = TriangleIndex(frag.mesh.positions, tris, edge, reach);
     bounding_box(frag.mesh, box[f].first, box[f].second);
   }
   ScatterGrid<Vec3> normal_field(o.grid);
@@ -485,7 +500,7 @@ FractureDetailReport add_fracture_detail(FragmentSet& set, const std::vector<Vec
   std::vector<Vec3> fixed_points;
   for (size_t p = 0; p < n; ++p)
     if (rim[p] || users[p].size() >= 3) fixed_points.push_back(points[p]);
-  const double fade = 2.0 * o.edge;
+  const double fade = 2.0 * edge;
   const PointHash fixed_hash(fixed_points, fade);
   auto taper = [&](const Vec3& x) {
     const size_t near = fixed_hash.nearest(x, fade);
@@ -522,7 +537,7 @@ FractureDetailReport add_fracture_detail(FragmentSet& set, const std::vector<Vec
   const size_t marking = static_cast<size_t>(std::count_if(lines.begin(), lines.end(), [](const auto& l) { return l.size() >= 2; }));
   const size_t enhanced = static_cast<size_t>(std::floor(o.enhanced * static_cast<double>(marking)));
   ScatterGrid<double> heights(o.grid);  // beta_i = sum_v w_iv beta_v
-  const double reference_area = std::sqrt(3.0) / 4.0 * o.edge * o.edge;  // a vertex's share at edge d
+  const double reference_area = triangle_area * edge * edge;  // a vertex's share at edge d
   for (size_t rank = 0; rank < by_length.size(); ++rank) {
     const std::vector<size_t>& line = lines[by_length[rank]];
     if (line.size() < 2) continue;  // a lone point marks nothing

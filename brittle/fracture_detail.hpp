@@ -25,11 +25,13 @@ struct FractureDetailOptions {
   int max_steps = 50;    // l_c: steps a chevron line takes at most (Table 3.3 uses 50 and 60)
   double radius = 0;     // s: a line marks the vertices within this distance across it as visited [m]
   double grid = 0;       // h_c: spacing of the grid that smooths the heights and the damage time [m]
+  double max_triangles = 2e7;  // crack triangles the refinement may make (over all fragments, both sides)
   double enhanced = 0.1; // m: share of the longest lines whose height grows away from their source (Table 3.3: 0.05, 0.1)
   bool enabled() const { return height > 0; }
 };
 
 struct FractureDetailReport {
+  double edge = 0;              // the refinement edge used: d, or larger where d would pass max_triangles
   size_t crack_vertices = 0;    // welded crack vertices after refinement
   size_t timed_vertices = 0;    // of which the damage time reaches (a broken particle within the stencil)
   size_t lines = 0, enhanced_lines = 0;

@@ -135,7 +135,7 @@ nlohmann::json fracture_summary(const FractureEvent& ev) {
                                           {"rejected_moves", ev.smoothing.rejected_moves},
                                           {"max_displacement", ev.smoothing.max_displacement}}}};
   if (ev.detail.crack_vertices > 0)
-    j["detail"] = {{"crack_vertices", ev.detail.crack_vertices}, {"timed_vertices", ev.detail.timed_vertices},
+    j["detail"] = {{"edge", ev.detail.edge}, {"crack_vertices", ev.detail.crack_vertices}, {"timed_vertices", ev.detail.timed_vertices},
                    {"lines", ev.detail.lines},                   {"enhanced_lines", ev.detail.enhanced_lines},
                    {"longest_line", ev.detail.longest_line},     {"moved_vertices", ev.detail.moved_vertices},
                    {"max_displacement", ev.detail.max_displacement}, {"folded_triangles", ev.detail.folded_triangles}};

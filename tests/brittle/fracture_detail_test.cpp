@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -173,6 +174,34 @@ TEST(FractureDetail, ChevronMarksOnACutBlockKeepBothHalvesFittingTogether) {
         EXPECT_NEAR(f.mesh.positions[static_cast<size_t>(f.mesh.triangles[t][k])].cwiseAbs().maxCoeff(), kL, 1e-12);
     }
   }
+}
+
+TEST(FractureDetail, RefinementStaysWithinItsTriangleBudget) {
+  // An edge of 1 nm on a 0.1 m block would make about 1e16 triangles; the budget raises it instead.
+  constexpr double kL = 0.05, kS = 0.005, kH = 0.01;
+  const testing::DamagedBox box(kL, kS, [](const Vec3& p) { return std::abs(p.z()) < kS; });
+  TriMesh domain = box_mesh(Vec3::Zero(), Vec3::Constant(kL), 2);
+  CrackExtractionOptions co;
+  co.grid.spacing = kH;
+  const CrackExtraction crack = extract_crack(box.x, box.c_his, co);
+  FragmentOptions fo;
+  FragmentSet set = cut_fragments(domain, crack.diagram, find_regions(crack.diagram, crack.crack_face), fo, "block.obj");
+  std::vector<ParticleDamage> damage(box.x.size());
+  FractureDetailOptions o;
+  o.height = 1e-4;
+  o.edge = 1e-9;
+  o.step = o.radius = o.grid = 0.0025;
+  o.max_triangles = 2e4;
+  const FractureDetailReport r = add_fracture_detail(set, box.x, damage, o, 1000);
+  size_t triangles = 0;
+  for (const Fragment& f : set.fragments)
+    triangles += static_cast<size_t>(std::count(f.crack_faces.begin(), f.crack_faces.end(), 1));
+  // Both faces of the 0.01 m^2 crack, 0.02 m^2 (the jittered Voronoi sheet is up to 2 % larger), in
+  // triangles of an eighth of the equilateral one at the edge.
+  EXPECT_NEAR(r.edge, std::sqrt(8 * 0.02 / (std::sqrt(3.0) / 4.0 * 2e4)), 0.02 * r.edge);
+  std::printf("MEASURE budget 20000: edge %.4g m, %zu crack triangles\n", r.edge, triangles);
+  EXPECT_LE(triangles, 20000u);
+  EXPECT_GE(triangles, 20000u / 8);
 }
 
 TEST(FractureDetail, BadLengthsAreRefused) {
