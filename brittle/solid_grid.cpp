@@ -55,11 +55,12 @@ bool SolidGrid::set_transfer_isa(TransferIsa isa) {
 
 const char* SolidGrid::transfer_isa() const { return kernels_->isa; }
 
-detail::TransferGrid SolidGrid::raw() const {
-  detail::TransferGrid g;
-  g.field[0] = const_cast<GridNode*>(field_[0].data());
-  g.field[1] = two_fields_ ? const_cast<GridNode*>(field_[1].data()) : g.field[0];
-  g.normal = two_fields_ ? const_cast<double*>(normal_.data()->n) : nullptr;
+template <class Grid, class Fields, class Normals>
+Grid SolidGrid::raw_of(Fields& field, Normals& normal) const {
+  Grid g;
+  g.field[0] = field[0].data();
+  g.field[1] = two_fields_ ? field[1].data() : g.field[0];
+  g.normal = two_fields_ ? normal.data()->n : nullptr;
   for (int a = 0; a < 3; ++a) g.lo[a] = lo_[a];
   g.stride_y = stride_y_;
   g.stride_z = stride_z_;
@@ -67,6 +68,9 @@ detail::TransferGrid SolidGrid::raw() const {
   g.inv_dx = inv_dx_;
   return g;
 }
+
+detail::TransferGrid SolidGrid::raw() { return raw_of<detail::TransferGrid>(field_, normal_); }
+detail::ConstTransferGrid SolidGrid::raw() const { return raw_of<detail::ConstTransferGrid>(field_, normal_); }
 
 long SolidGrid::node_index(int i, int j, int k) const {
   const int a = i - lo_.x(), b = j - lo_.y(), c = k - lo_.z();
@@ -289,7 +293,7 @@ void SolidGrid::apply_colliders(const std::vector<mpm::Collider>& colliders, dou
 }
 
 void SolidGrid::transfer_to_particles(const SolidView& s, double dt) const {
-  const detail::TransferGrid g = raw();
+  const detail::ConstTransferGrid g = raw();
   const detail::GatherKernel gather = kernels_->gather;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, s.count, 2048),
                     [&](const tbb::blocked_range<size_t>& r) { gather(g, s, dt, r.begin(), r.end()); });

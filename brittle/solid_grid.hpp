@@ -36,7 +36,10 @@ struct SolidView {
 };
 
 namespace detail {
-struct TransferGrid;
+template <class Node, class Real>
+struct TransferGridOf;
+using TransferGrid = TransferGridOf<GridNode, double>;
+using ConstTransferGrid = TransferGridOf<const GridNode, const double>;
 struct TransferKernels;
 }  // namespace detail
 
@@ -118,8 +121,11 @@ class SolidGrid {
   struct alignas(32) NodeNormal {
     double n[4];
   };
-  // The kernels' view of the grid (node pointers writable: the scatter fills them).
-  detail::TransferGrid raw() const;
+  // The kernels' view of the grid: writable nodes for the scatter, read-only ones for the gather.
+  detail::TransferGrid raw();
+  detail::ConstTransferGrid raw() const;
+  template <class Grid, class Fields, class Normals>
+  Grid raw_of(Fields& field, Normals& normal) const;
   double dx_, inv_dx_;
   const detail::TransferKernels* kernels_;
   Eigen::Vector3i lo_ = Eigen::Vector3i::Zero(), dims_ = Eigen::Vector3i::Zero();

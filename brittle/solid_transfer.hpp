@@ -10,11 +10,13 @@
 
 namespace shellfrac::brittle::detail {
 
-// What the kernels need of the grid: raw node arrays and the box.
-struct TransferGrid {
-  GridNode* field[2] = {nullptr, nullptr};  // field[1] is field[0] on a one-field grid
-  double* normal = nullptr;                 // crack normal per node as 4 doubles (x, y, z, unused); null with one field
-  long lo[3] = {0, 0, 0};                   // integer coordinates of node 0
+// What the kernels need of the grid: raw node arrays and the box. The scatter writes the nodes
+// (TransferGrid); the gather only reads them (ConstTransferGrid).
+template <class Node, class Real>
+struct TransferGridOf {
+  Node* field[2] = {nullptr, nullptr};  // field[1] is field[0] on a one-field grid
+  Real* normal = nullptr;               // crack normal per node as 4 doubles (x, y, z, unused); null with one field
+  long lo[3] = {0, 0, 0};               // integer coordinates of node 0
   long stride_y = 0, stride_z = 0;
   double dx = 0, inv_dx = 0;
 };
@@ -23,7 +25,7 @@ struct TransferGrid {
 using ScatterKernel = void (*)(const TransferGrid& g, const SolidView& s, double dt, const uint32_t* order, size_t begin,
                                size_t end);
 // g2p of the particles begin..end (Eq. 2.20, 2.25, 2.26, 2.21).
-using GatherKernel = void (*)(const TransferGrid& g, const SolidView& s, double dt, size_t begin, size_t end);
+using GatherKernel = void (*)(const ConstTransferGrid& g, const SolidView& s, double dt, size_t begin, size_t end);
 
 struct TransferKernels {
   ScatterKernel scatter;

@@ -52,7 +52,8 @@ struct Stencil {
   double d[3][3];
 };
 
-SB_INLINE void make_stencil(const double* x, const TransferGrid& g, Stencil& st) {
+template <class Grid>
+SB_INLINE void make_stencil(const double* x, const Grid& g, Stencil& st) {
   const long stride[3] = {1, g.stride_y, g.stride_z};
   st.base = 0;
   for (int a = 0; a < 3; ++a) {
@@ -137,7 +138,7 @@ void scatter_kernel(const TransferGrid& g, const SolidView& s, double dt, const 
 // (Eq. 2.26), x <- x + dt v (Eq. 2.21). Per stencil row (fixed j, k) the row sums s = sum_i wx_i n_i and
 // t = sum_i wx_i dx_i n_i are formed first; then v += w_yz s, B_{.,0} += w_yz t, B_{.,1} += w_yz dy_j s,
 // B_{.,2} += w_yz dz_k s. (The nodes' lane 0 holds the mass and is carried along unused.)
-void gather_kernel(const TransferGrid& g, const SolidView& s, double dt, size_t begin, size_t end) {
+void gather_kernel(const ConstTransferGrid& g, const SolidView& s, double dt, size_t begin, size_t end) {
   const double inv_d = 4.0 * g.inv_dx * g.inv_dx;
   const long sy = g.stride_y, sz = g.stride_z;
   for (size_t p = begin; p < end; ++p) {
