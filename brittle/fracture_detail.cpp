@@ -132,30 +132,35 @@ class PointHash {
 using PositionKey = std::array<double, 3>;
 PositionKey key_of(const Vec3& p) { return {p.x(), p.y(), p.z()}; }
 
+// Triangle t's normal times its area.
+Vec3 area_normal(const TriMesh& m, size_t t) {
+  const Tri& tri = m.triangles[t];
+  const Vec3& a = m.positions[static_cast<size_t>(tri[0])];
+  return 0.5 * (m.positions[static_cast<size_t>(tri[1])] - a).cross(m.positions[static_cast<size_t>(tri[2])] - a);
+}
+
 // Smooth normals on the crack triangles: each corner averages the area normals of the crack triangles
 // at its position that lie within 60 degrees of its own (sharper bends of the Voronoi sheets stay
 // creases), and corners with different normals get their own vertex copies.
 void smooth_crack_normals(TriMesh& mesh, const std::vector<char>& crack) {
   std::map<PositionKey, std::vector<size_t>> around;  // crack triangles per position
-  std::vector<Vec3> area_normal(mesh.triangles.size(), Vec3::Zero());
+  std::vector<Vec3> normals(mesh.triangles.size(), Vec3::Zero());  // area-weighted
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     if (!crack[t]) continue;
-    const Tri& tri = mesh.triangles[t];
-    const Vec3& a = mesh.positions[static_cast<size_t>(tri[0])];
-    area_normal[t] = (mesh.positions[static_cast<size_t>(tri[1])] - a).cross(mesh.positions[static_cast<size_t>(tri[2])] - a);
-    for (int k = 0; k < 3; ++k) around[key_of(mesh.positions[static_cast<size_t>(tri[k])])].push_back(t);
+    normals[t] = area_normal(mesh, t);
+    for (int k = 0; k < 3; ++k) around[key_of(mesh.positions[static_cast<size_t>(mesh.triangles[t][k])])].push_back(t);
   }
   const bool uvs = mesh.has_uvs();
   std::vector<char> claimed(mesh.positions.size(), 0);
   std::map<std::pair<int, std::array<double, 3>>, int> copy;  // (vertex, normal) -> vertex
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
-    if (!crack[t] || !(area_normal[t].norm() > 0)) continue;
-    const Vec3 own = area_normal[t].normalized();
+    if (!crack[t] || !(normals[t].norm() > 0)) continue;
+    const Vec3 own = normals[t].normalized();
     for (int k = 0; k < 3; ++k) {
       const int v = mesh.triangles[t][k];
       Vec3 sum = Vec3::Zero();
       for (size_t u : around[key_of(mesh.positions[static_cast<size_t>(v)])])
-        if (area_normal[u].norm() > 0 && area_normal[u].normalized().dot(own) > 0.5) sum += area_normal[u];
+        if (normals[u].norm() > 0 && normals[u].normalized().dot(own) > 0.5) sum += normals[u];
       const Vec3 n = sum.normalized();
       const auto [it, added] = copy.try_emplace({v, {n.x(), n.y(), n.z()}}, v);
       if (added) {
@@ -403,7 +408,7 @@ FractureDetailReport add_fracture_detail(FragmentSet& set, const std::vector<Vec
     if (has_crack(frag))
       for (size_t t = 0; t < frag.mesh.triangles.size(); ++t)
         if (frag.crack_faces[t])
-          crack_area += 0.5 * (corner(frag.mesh, t, 1) - corner(frag.mesh, t, 0)).cross(corner(frag.mesh, t, 2) - corner(frag.mesh, t, 0)).norm();
+          crack_area += area_normal(frag.mesh, t).norm();
   const double triangle_area = std::sqrt(3.0) / 4.0;  // of an equilateral triangle of unit edge
   // Halving every edge longer than d leaves edges between d/2 and d, and the splits of one or two edges
   // make some triangles skinny: their mean area measured 0.15 of the equilateral one at d (1.3x the
@@ -424,6 +429,7 @@ FractureDetailReport add_fracture_detail(FragmentSet& set, const std::vector<Vec
     refine_crack_faces(frag.mesh, frag.crack_faces, edge);
     for (size_t t = 0; t < frag.mesh.triangles.size(); ++t) {
       if (!frag.crack_faces[t]) continue;
+      const double third = area_normal(frag.mesh, t).norm() / 3.0;
       for (int k = 0; k < 3; ++k) {
         const auto [it, added] = point_of.emplace(key_of(corner(frag.mesh, t, k)), points.size());
         if (added) {
@@ -432,7 +438,7 @@ FractureDetailReport add_fracture_detail(FragmentSet& set, const std::vector<Vec
           rim.push_back(0);
           area.push_back(0.0);
         }
-        area[it->second] += (corner(frag.mesh, t, 1) - corner(frag.mesh, t, 0)).cross(corner(frag.mesh, t, 2) - corner(frag.mesh, t, 0)).norm() / 6.0;
+        area[it->second] += third;
         std::vector<size_t>& u = users[it->second];
         if (u.empty() || u.back() != f) u.push_back(f);
       }
@@ -477,9 +483,8 @@ FractureDetailReport add_fracture_detail(FragmentSet& set, const std::vector<Vec
     if (!has_crack(frag)) continue;
     for (size_t t = 0; t < frag.mesh.triangles.size(); ++t) {
       if (!frag.crack_faces[t]) continue;
-      const Vec3 &a = corner(frag.mesh, t, 0), &b = corner(frag.mesh, t, 1), &c = corner(frag.mesh, t, 2);
-      const Vec3 area_normal = 0.5 * (b - a).cross(c - a);
-      const Vec3 centre = (a + b + c) / 3.0;
+      const Vec3 an = area_normal(frag.mesh, t);
+      const Vec3 centre = (corner(frag.mesh, t, 0) + corner(frag.mesh, t, 1) + corner(frag.mesh, t, 2)) / 3.0;
       size_t across = SIZE_MAX;
       double best = reach;
       for (size_t g = 0; g < set.fragments.size(); ++g) {
@@ -492,8 +497,8 @@ FractureDetailReport add_fracture_detail(FragmentSet& set, const std::vector<Vec
         }
       }
       if (across == SIZE_MAX) continue;  // no other fragment across (a crack ending inside this one)
-      normal_field.add(centre, f < across ? area_normal : Vec3(-area_normal));
-      area_field.add(centre, area_normal.norm());
+      normal_field.add(centre, f < across ? an : Vec3(-an));
+      area_field.add(centre, an.norm());
     }
   }
   // Fixed: rims and points where three or more fragments meet; the detail fades to zero within 2 d of them.
@@ -570,14 +575,14 @@ FractureDetailReport add_fracture_detail(FragmentSet& set, const std::vector<Vec
     TriMesh& mesh = frag.mesh;
     std::vector<Vec3> before_normal(mesh.triangles.size(), Vec3::Zero());
     for (size_t t = 0; t < mesh.triangles.size(); ++t)
-      if (frag.crack_faces[t]) before_normal[t] = (corner(mesh, t, 1) - corner(mesh, t, 0)).cross(corner(mesh, t, 2) - corner(mesh, t, 0));
+      if (frag.crack_faces[t]) before_normal[t] = area_normal(mesh, t);
     for (Vec3& x : mesh.positions) {
       const auto it = point_of.find(key_of(x));
       if (it != point_of.end()) x = moved[it->second];
     }
     for (size_t t = 0; t < mesh.triangles.size(); ++t)
       if (frag.crack_faces[t] &&
-          (corner(mesh, t, 1) - corner(mesh, t, 0)).cross(corner(mesh, t, 2) - corner(mesh, t, 0)).dot(before_normal[t]) <= 0)
+          area_normal(mesh, t).dot(before_normal[t]) <= 0)
         ++report.folded_triangles;
     if (mesh.has_normals()) smooth_crack_normals(mesh, frag.crack_faces);
     frag.crack_triangles = static_cast<size_t>(std::count(frag.crack_faces.begin(), frag.crack_faces.end(), 1));
