@@ -49,7 +49,9 @@ class SparseGrid {
   // v_i = ((m v)_i + dt f_i) / m_i + dt g on every node with mass (thesis Eq. 2.19).
   void update_velocities(double dt, const Vec3& gravity);
   // Grid to particle: PIC velocity (Eq. 2.20), APIC affine (Eq. 2.25) and velocity gradient if asked.
-  void transfer_to_particles(const std::vector<ParticleSet>& sets) const;
+  // `dt` is the step the particles are then advected over with their grid velocity (v_p minus its FLIP
+  // part); with FLIP shares that differ, the correction that keeps momentum uses it (see the .cpp).
+  void transfer_to_particles(const std::vector<ParticleSet>& sets, double dt = 0) const;
 
   // Phantom copies (thesis sec. 4.7.1): after rebuild(), before the transfers. Copies are appended to the
   // node storage (indices >= num_grid_nodes()), so velocity updates and colliders treat them like nodes;

@@ -216,12 +216,14 @@ struct GridSettings {
   //    cuts), except while some point of the shell or of a shell a coupled seam ties to it is damaged
   //    (c > 0): then PIC for all of their particles. With the healing damage rule the damage of a torn
   //    shell goes back to 0 once its pieces have separated and relaxed, and the pieces keep their swing.
+  //  - RpicWhileDamaged: the same, but while damaged its particles keep the rotational part of their
+  //    affine velocity (RPIC: angular momentum and rigid rotation kept, stretching modes damped like PIC).
   //  - AdaptiveThenPic: the adaptive transfer until damage or a crack first appears on the shell; from
   //    then on PIC for all of its particles.
   //  - AdaptiveThenApic: the same, but APIC (share 0, affine velocity kept) once damaged.
   //  - Adaptive: the adaptive transfer throughout.
   //  - Pic: PIC throughout, with half of each cell's mass on its shear particles (the rule before).
-  enum class CrackingShells { PicWhileDamaged, AdaptiveThenPic, AdaptiveThenApic, Adaptive, Pic };
+  enum class CrackingShells { PicWhileDamaged, RpicWhileDamaged, AdaptiveThenPic, AdaptiveThenApic, Adaptive, Pic };
   CrackingShells cracking = CrackingShells::PicWhileDamaged;
   // Adaptive transfer only: whether shell s runs it (false: PIC for that shell's particles).
   bool adaptive_shell(const Shell& s) const {
@@ -234,7 +236,8 @@ struct GridSettings {
   }
   // Adaptive transfer only: whether shell s runs PIC exactly while it (or its seam group) is damaged.
   bool pic_while_damaged(const Shell& s) const {
-    return adaptive && s.can_crack() && cracking == CrackingShells::PicWhileDamaged;
+    return adaptive && s.can_crack() &&
+           (cracking == CrackingShells::PicWhileDamaged || cracking == CrackingShells::RpicWhileDamaged);
   }
 };
 

@@ -417,7 +417,9 @@ struct Grid {
   Opt<std::string> transfer;  // "adaptive" (default), "pic", "apic", "flip", "aflip"
   Opt<double> flip_ratio;     // FLIP share of "flip"/"aflip", or of intact material with "adaptive", in [0, 1]
   Opt<double> flip_ratio_active;  // "adaptive": share next to damage, plastic flow or a crack, in [0, 1]
-  Opt<std::string> cracking_shells;  // "adaptive" only: "adaptive_then_pic" (default), "adaptive_then_apic", "adaptive", "pic"
+  // "adaptive" only, how shells that can crack run: "pic_while_damaged" (default), "rpic_while_damaged",
+  // "adaptive_then_pic", "adaptive_then_apic", "adaptive", "pic" (scene/model.hpp, GridSettings)
+  Opt<std::string> cracking_shells;
 };
 
 struct Cracks {

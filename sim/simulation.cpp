@@ -236,7 +236,7 @@ void Simulation::stage_g2p(double dt) {
   } else {
     for (mpm::ParticleSet& s : world_.particle_sets()) s.flip = model_.grid.flip * keep;
   }
-  grid_.transfer_to_particles(world_.particle_sets());
+  grid_.transfer_to_particles(world_.particle_sets(), dt);
   pins_.hold_velocities(world_, dt, time_ + dt);
   seams_.save_start_positions(world_);
   for (size_t i = 0; i < world_.num_shells(); ++i) {

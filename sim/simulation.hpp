@@ -89,8 +89,9 @@ class Simulation {
   double kinetic_energy() const { return world_.kinetic_energy(); }
   double advected_kinetic_energy() const { return world_.advected_kinetic_energy(); }
   Eigen::Vector3d linear_momentum() const { return world_.linear_momentum(); }
-  // Whether shell i, which can crack, has left the adaptive shares for PIC (or APIC) because damage or a
-  // crack appeared on it (grid.cracking_shells "adaptive_then_pic", the default, or "adaptive_then_apic").
+  // Whether shell i, which can crack, runs PIC (RPIC, APIC) instead of the adaptive shares at this step:
+  // while it is damaged (grid.cracking_shells "pic_while_damaged", the default, or "rpic_while_damaged"),
+  // or for good since damage or a crack appeared on it ("adaptive_then_pic", "adaptive_then_apic").
   bool transfer_turned(size_t shell) const { return shares_.turned(shell); }
   // Total force the pins exert on shell i over the last step (sim/pin_system.hpp: minus the force on the
   // held components, minus the momentum the held components lost, per unit time).

@@ -28,6 +28,7 @@ void TransferShares::attach(World& world, const scene::Model& model) {
     while_damaged_[i] = model.grid.pic_while_damaged(model.shells[i]);
   }
   turn_to_pic_ = model.grid.cracking != scene::model::GridSettings::CrackingShells::AdaptiveThenApic;
+  damaged_rigid_ = model.grid.cracking == scene::model::GridSettings::CrackingShells::RpicWhileDamaged;
   // Shells joined by coupled seams, directly or through others, share one group (the smallest index).
   seam_group_.resize(world.num_shells());
   for (size_t i = 0; i < seam_group_.size(); ++i) seam_group_[i] = i;
@@ -85,7 +86,11 @@ void TransferShares::set_pic(World& world, size_t shell, bool pic) {
   mpm::ParticleSet& shear = world.particle_sets()[world.shear_set(shell)];
   std::vector<Eigen::Matrix3d>& affine = world.affine(shell);
   std::vector<Eigen::Matrix3d>& shear_affine = world.shear_affine(shell);
-  if (pic) {
+  if (damaged_rigid_) {
+    // RPIC while damaged: the affine velocities stay and g2p keeps their rotational part only, so they are
+    // never stale; the shear particles are RPIC anyway.
+    control.rigid_affine = pic;
+  } else if (pic) {
     control.affine = nullptr;  // p2g reads no affine velocity and g2p writes none
     shear.affine = nullptr;
   } else if (!affine.empty()) {

@@ -54,6 +54,7 @@ class TransferShares {
   std::vector<unsigned char> turns_;      // per shell: leaves the adaptive shares once damaged
   std::vector<unsigned char> while_damaged_;  // per shell: runs PIC while its seam group is damaged
   bool turn_to_pic_ = true;               // ... for PIC (else APIC)
+  bool damaged_rigid_ = false;            // while damaged: RPIC instead of PIC (rpic_while_damaged)
   std::vector<unsigned char> turned_;     // per shell: runs PIC/APIC now (turns_: for good)
   std::vector<size_t> seam_group_;        // per shell: the shells tied to it by coupled seams share a value
   std::vector<std::vector<unsigned char>> seam_held_;  // per shell and control point: set by a seam
