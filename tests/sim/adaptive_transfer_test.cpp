@@ -17,12 +17,13 @@
 namespace shellfrac::sim {
 namespace {
 
-// A 0.4 x 0.2 m sheet with a prescribed cut from the bottom edge to the middle (u = 0.5, v in [0, 0.5]).
-std::string half_cut_sheet(const std::string& grid) {
+// A 0.4 x 0.2 m sheet with a prescribed cut from the bottom edge to the middle (u = 0.5, v in [0, 0.5]),
+// or through it (v in [0, 1]: two pieces).
+std::string half_cut_sheet(const std::string& grid, bool through = false) {
   return R"({"name": "cut", "gravity": [0, 0, 0], )" + grid + R"(
     "shells": [{"name": "sheet", "patch": {"type": "flat", "size": [0.4, 0.2], "cells": [16, 8]},
       "thickness": 0.001, "material": {"E": 1e5, "nu": 0.3, "density": 200},
-      "cuts": [{"points": [[0.5, 0.0], [0.5, 0.5]]}]}]})";
+      "cuts": [{"points": [[0.5, 0.0], [0.5, )" + (through ? "1.0" : "0.5") + R"(]]}]}]})";
 }
 
 // The cut sheet can crack: by default it turns to PIC at its first step (the cut is a crack), and
@@ -224,8 +225,8 @@ Eigen::Vector3d angular_momentum(Simulation& sim) {
 // A pre-cut sheet spinning apart in free flight (no gravity, no pins), 400 steps at half the stable step;
 // returns the relative change of linear momentum (against the momentum scale m |omega| size) and of
 // angular momentum over the run, and prints both.
-std::pair<double, double> spinning_cut_sheet(const std::string& grid) {
-  Simulation sim(scene::build_model(half_cut_sheet(grid), "cut.json"));
+std::pair<double, double> spinning_cut_sheet(const std::string& grid, bool through = false) {
+  Simulation sim(scene::build_model(half_cut_sheet(grid, through), "cut.json"));
   const shell::ShellPatch& p = sim.world().shell(0);
   const auto x = sim.positions(0), v = sim.velocities(0), shear_v = sim.shear_velocities(0);
   const Eigen::Vector3d omega(0.5, -0.3, 4.0), spin_centre(0.2, 0.1, 0);
@@ -236,8 +237,8 @@ std::pair<double, double> spinning_cut_sheet(const std::string& grid) {
   for (int s = 0; s < 400; ++s) sim.step(0.5 * sim.stable_dt());
   const double mass = 200 * 0.001 * 0.4 * 0.2, scale = mass * omega.norm() * 0.4;
   const double dp = (sim.linear_momentum() - p0).norm() / scale, dL = (angular_momentum(sim) - L0).norm() / L0.norm();
-  std::printf("spinning cut sheet (%s): |dp| / (m |omega| L) %.3e, |dL| / |L0| %.3e (|L0| %.4e)\n",
-              grid.empty() ? "default" : grid.c_str(), dp, dL, L0.norm());
+  std::printf("spinning %s sheet (%s): |dp| / (m |omega| L) %.3e, |dL| / |L0| %.3e (|L0| %.4e)\n",
+              through ? "cut-through" : "half-cut", grid.empty() ? "default" : grid.c_str(), dp, dL, L0.norm());
   return {dp, dL};
 }
 
@@ -248,22 +249,17 @@ TEST(AdaptiveTransfer, SpinningCutSheetKeepsLinearMomentum) {
     EXPECT_LE(spinning_cut_sheet(grid).first, 1e-10) << grid;
 }
 
-// Known failure: the criterion is angular momentum to 1e-10 relative. Measured over the 400 steps: 2.1e-5
-// under the default and 3.0e-6 under APIC; 1.00 under PIC, which stops the spin. The rest is the shear
-// particles (Type III): thesis Eq. 4.10 places them on the surface the control points span instead of
-// moving them with their grid velocity, and that move changes x_p x m_p v_p. Advected instead (a trial
-// build), the same sheet kept its angular momentum to 6.0e-14 under the default and 6.4e-14 under APIC.
-// Before g2p rotated the dissipating particles' share of the FLIP residual (mpm/sparse_grid.cpp), the
-// default lost 4.3e-3.
-TEST(AdaptiveTransfer, DISABLED_SpinningCutSheetKeepsAngularMomentum) {
-  EXPECT_LE(spinning_cut_sheet("").second, 1e-10);
-}
-
-// Regression check, not the criterion above: the default's loss stays at the shear particles' placement
-// (measured 2.1e-5; 4.3e-3 without g2p's angular correction) and APIC's at 3.0e-6.
-TEST(AdaptiveTransfer, SpinningCutSheetAngularMomentumRegression) {
-  EXPECT_LE(spinning_cut_sheet("").second, 5e-5);
-  EXPECT_LE(spinning_cut_sheet(R"("grid": {"transfer": "apic"},)").second, 1e-5);
+// Angular momentum through a cut: criterion 1e-10 relative over the 400 steps, for a sheet cut half way and
+// one cut through, whose halves spin apart (measured about 6e-14 under the default and APIC). It holds
+// because g2p rotates the dissipating particles' share of the FLIP residual (mpm/sparse_grid.cpp; without
+// it the default lost 4.3e-3) and the shear particles' velocities are rotated back after thesis Eq. 4.10
+// places them (ShellPatch::update_shear_particles; without it 2.1e-5 under the default, 3.0e-6 under APIC).
+// PIC does not keep it: it stops the spin (1.00).
+TEST(AdaptiveTransfer, SpinningCutSheetKeepsAngularMomentum) {
+  for (bool through : {false, true})
+    for (const std::string grid : {"", R"("grid": {"transfer": "apic"},)"})
+      EXPECT_LE(spinning_cut_sheet(grid, through).second, 1e-10) << grid << (through ? " cut through" : " half cut");
+  EXPECT_GT(spinning_cut_sheet(R"("grid": {"transfer": "pic"},)").second, 0.5);
 }
 
 TEST(AdaptiveTransfer, DrapeOverABallGainsNoEnergy) {
