@@ -119,15 +119,7 @@ class FrameWriter {
 CrackReport crack_report(const sim::Simulation& sim) {
   const sim::CrackStats& c = sim.crack_stats();
   CrackReport r;
-  r.extractions = c.extractions;
-  r.subset_violations = c.subset_violations;
-  r.crack_segments = c.crack_edges;
-  r.mls_points = c.mls_points;
-  r.mls_failures = c.mls_failures;
-  r.max_split_nodes = c.max_split_nodes;
-  r.contact_pairs = c.contact_pairs;
-  r.max_contact_residual = c.max_contact_residual;
-  r.seam_continuations = c.seam_continuations;
+  static_cast<sim::CrackCounters&>(r) = c;
   for (size_t i = 0; i < sim.world().num_shells(); ++i) {
     const shell::ShellPatch& p = sim.world().shell(i);
     r.max_damage = std::max(r.max_damage, p.fractures() ? p.max_damage() : 0.0);

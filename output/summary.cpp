@@ -37,16 +37,9 @@ Json interface_json(const InterfaceReport& r) {
 }
 
 Json cracks_json(const CrackReport& c) {
-  Json j = {{"extractions", c.extractions},
-            {"subset_violations", c.subset_violations},
-            {"crack_segments", c.crack_segments},
-            {"mls_points", c.mls_points},
-            {"mls_failures", c.mls_failures},
-            {"max_split_nodes", c.max_split_nodes},
-            {"contact_pairs", c.contact_pairs},
-            {"max_contact_residual", c.max_contact_residual},
-            {"seam_continuations", c.seam_continuations},
-            {"max_damage", c.max_damage}};
+  Json j = Json::object();
+  sim::CrackCounters::visit([&](const char* name, auto counter) { j[name] = c.*counter; });
+  j["max_damage"] = c.max_damage;
   if (c.first_mls_failure) j["first_mls_failure"] = *c.first_mls_failure;
   Json points = Json::object(), shear = Json::object();
   for (const auto& [level, n] : c.basis_points) points[level] = n;
@@ -107,15 +100,9 @@ InterfaceReport interface_from(const Json& j) {
 
 CrackReport cracks_from(const Json& j) {
   CrackReport c;
-  c.extractions = get<long>(j, "extractions");
-  c.subset_violations = get<size_t>(j, "subset_violations");
-  c.crack_segments = get<size_t>(j, "crack_segments");
-  c.mls_points = get<size_t>(j, "mls_points");
-  c.mls_failures = get<size_t>(j, "mls_failures");
-  c.max_split_nodes = get<size_t>(j, "max_split_nodes");
-  c.contact_pairs = get<size_t>(j, "contact_pairs");
-  c.max_contact_residual = get<double>(j, "max_contact_residual");
-  c.seam_continuations = get<size_t>(j, "seam_continuations");
+  sim::CrackCounters::visit([&](const char* name, auto counter) {
+    c.*counter = get<std::remove_reference_t<decltype(c.*counter)>>(j, name);
+  });
   c.max_damage = get<double>(j, "max_damage");
   c.first_mls_failure = get_optional<std::string>(j, "first_mls_failure");
   const Json& basis = field(j, "basis");

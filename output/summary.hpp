@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "sim/crack_counters.hpp"
+
 namespace shellfrac::output {
 
 struct ParticleCounts {
@@ -41,12 +43,7 @@ struct InterfaceReport {
 };
 
 // metrics.cracks: the crack machinery over the run (docs/fracture.md, "What a run reports").
-struct CrackReport {
-  long extractions = 0;
-  size_t subset_violations = 0, crack_segments = 0, mls_points = 0, mls_failures = 0, max_split_nodes = 0;
-  size_t contact_pairs = 0;
-  double max_contact_residual = 0;
-  size_t seam_continuations = 0;
+struct CrackReport : sim::CrackCounters {
   double max_damage = 0;
   std::optional<std::string> first_mls_failure;
   // The bases of the points a crack cut off from part of their NURBS support (docs/mls.md, the chain):

@@ -72,15 +72,7 @@ py::dict to_dict(const MetricValues& v, const sim::Simulation& sim) {
                                   py::arg("quadrature_points") = sim.num_quadrature_points());
   const sim::CrackStats& c = v.cracks;
   py::dict cracks;
-  cracks["extractions"] = c.extractions;
-  cracks["subset_violations"] = c.subset_violations;
-  cracks["crack_segments"] = c.crack_edges;
-  cracks["mls_points"] = c.mls_points;
-  cracks["mls_failures"] = c.mls_failures;
-  cracks["max_split_nodes"] = c.max_split_nodes;
-  cracks["contact_pairs"] = c.contact_pairs;
-  cracks["max_contact_residual"] = c.max_contact_residual;
-  cracks["seam_continuations"] = c.seam_continuations;
+  sim::CrackCounters::visit([&](const char* name, auto counter) { cracks[name] = c.*counter; });
   cracks["first_mls_failure"] = c.first_mls_failure.empty() ? py::object(py::none()) : py::object(py::str(c.first_mls_failure));
   cracks["first_sliver"] = c.first_sliver.empty() ? py::object(py::none()) : py::object(py::str(c.first_sliver));
   d["cracks"] = cracks;

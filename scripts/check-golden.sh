@@ -6,8 +6,8 @@
 #   scripts/check-golden.sh check  FILE [BINARY]   run them again and compare with FILE (exit 1 on any change)
 #
 # BINARY defaults to build/bin/shellfrac. Runs use 2 threads: output is bit-identical for a given thread
-# count. Set GOLDEN_SCENES to override the scene list (names under scenes/, without .json; "default" is the
-# built-in scene).
+# count. Set GOLDEN_SCENES to override the scene list (paths under scenes/, without .json, such as
+# brittle/slab-sphere; "default" is the built-in scene).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -21,12 +21,13 @@ fi
 [[ -x "$binary" ]] || { echo "check-golden: no executable at $binary (build first)" >&2; exit 2; }
 command -v python3 >/dev/null || { echo "check-golden: needs python3 (to strip timings from summary.json)" >&2; exit 2; }
 
-scenes=${GOLDEN_SCENES:-"default tear-mode-one spiral-cut cloth-two-balls garment-eight-patches drape-two-patch-c1"}
+scenes=${GOLDEN_SCENES:-"default tear-mode-one spiral-cut cloth-two-balls garment-eight-patches drape-two-patch-c1 plate-pressure brittle/slab-sphere brittle/notched-beam"}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
 hash_run() {  # scene name -> lines "scene file sha256"
   local name=$1 out="$work/$1"
+  mkdir -p "$(dirname "$out")"
   local args=(run --out "$out" --threads 2)
   [[ "$name" != default ]] && args=(run "scenes/$name.json" --out "$out" --threads 2)
   if ! "$binary" "${args[@]}" >"$work/$name.log" 2>&1; then

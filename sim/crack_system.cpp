@@ -188,8 +188,8 @@ void CrackSystem::record_update(World& world, size_t shell, const shell::CrackUp
 }
 
 bool CrackSystem::extract(World& world) {
-  const size_t edges_before = stats_.crack_edges;
-  stats_.crack_edges = stats_.mls_points = stats_.mls_failures = 0;
+  const size_t edges_before = stats_.crack_segments;
+  stats_.crack_segments = stats_.mls_points = stats_.mls_failures = 0;
   for (size_t i = 0; i < world.num_shells(); ++i) {
     if (!cracks_[i]) continue;
     shell::ShellPatch& patch = world.shell(i);
@@ -209,11 +209,11 @@ bool CrackSystem::extract(World& world) {
         record_update(world, i, u);
       }
     }
-    stats_.crack_edges += cracks_[i]->graph().num_edges();
+    stats_.crack_segments += cracks_[i]->graph().num_edges();
     stats_.mls_points += patch.num_mls_points();
     stats_.mls_failures += patch.num_mls_failures();
   }
-  return stats_.crack_edges != edges_before;
+  return stats_.crack_segments != edges_before;
 }
 
 bool CrackSystem::add_cut(World& world, size_t shell, const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
@@ -230,10 +230,10 @@ bool CrackSystem::add_cut(World& world, size_t shell, const Eigen::Vector2d& fro
 }
 
 void CrackSystem::count_state(const World& world) {
-  stats_.crack_edges = stats_.mls_points = stats_.mls_failures = 0;
+  stats_.crack_segments = stats_.mls_points = stats_.mls_failures = 0;
   for (size_t i = 0; i < world.num_shells(); ++i)
     if (cracks_[i]) {
-      stats_.crack_edges += cracks_[i]->graph().num_edges();
+      stats_.crack_segments += cracks_[i]->graph().num_edges();
       stats_.mls_points += world.shell(i).num_mls_points();
       stats_.mls_failures += world.shell(i).num_mls_failures();
     }

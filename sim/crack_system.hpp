@@ -3,6 +3,7 @@
 // (prescribed cuts and cracks extracted from the damage history), the MLS settings of the bases near it,
 // and per step the phantom-node partition of the grid with its visibility cache.
 #include <Eigen/Core>
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,25 +14,17 @@
 #include "mpm/sparse_grid.hpp"
 #include "scene/model.hpp"
 #include "shell/mls_basis.hpp"
+#include "sim/crack_counters.hpp"
 #include "sim/world.hpp"
 
 namespace shellfrac::sim {
 
 class SeamSystem;
 
-// Counters of the crack machinery over a run (summary.json metrics.cracks).
-struct CrackStats {
-  long extractions = 0;            // consistent crack extractions run (all patches)
-  size_t subset_violations = 0;    // extractions whose graph did not contain the previous one (must be 0)
-  size_t crack_edges = 0;          // segments in all crack graphs now
-  size_t mls_points = 0;           // in-plane points with MLS bases now
-  size_t mls_failures = 0;         // points left without a basis although their piece could carry one
+// The crack machinery's counters over a run, and where the first failure of each kind happened.
+struct CrackStats : CrackCounters {
   std::string first_mls_failure;
   std::string first_sliver;        // the first point that fell into a piece too small for a basis
-  size_t max_split_nodes = 0;      // largest number of grid nodes with phantom copies in one step
-  size_t contact_pairs = 0;        // pairwise fragment contacts resolved (Eq. 4.23-4.26), all steps
-  double max_contact_residual = 0; // largest approaching velocity left after contact
-  size_t seam_continuations = 0;   // cracks continued across a coupled seam into the neighbour patch
 };
 
 class CrackSystem {
@@ -63,9 +56,14 @@ class CrackSystem {
   const mpm::PhantomLayout& phantoms() const { return phantoms_; }
   bool has_phantoms() const { return !phantoms_.copy_parent.empty(); }
 
-  CrackStats& stats() { return stats_; }
   const CrackStats& stats() const { return stats_; }
-  // Recounts crack_edges, mls_points and mls_failures from the current state.
+  // Counts a crack continued across a coupled seam (SeamSystem) and one step's phantom contact.
+  void count_seam_continuation() { ++stats_.seam_continuations; }
+  void count_contact(size_t pairs_resolved, double residual) {
+    stats_.contact_pairs += pairs_resolved;
+    stats_.max_contact_residual = std::max(stats_.max_contact_residual, residual);
+  }
+  // Recounts crack_segments, mls_points and mls_failures from the current state.
   void count_state(const World& world);
 
  private:

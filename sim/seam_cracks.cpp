@@ -216,7 +216,7 @@ void SeamSystem::update_cracks(World& world, CrackSystem& cracks) {
                                                           end_seam - Eigen::Vector2d(h.along, 0.0));
         // A degenerate continuation (at a corner) is skipped: the neighbour's damage decides alone.
         if (!cracks.add_cut(world, patch[to], start, end)) continue;
-        ++cracks.stats().seam_continuations;
+        cracks.count_seam_continuation();
       }
     }
     SeamState& st = seams_[i];

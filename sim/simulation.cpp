@@ -221,9 +221,7 @@ void Simulation::stage_grid_update(double dt) {
   if (cracks_.has_phantoms()) {  // fragments meeting at phantom copies (thesis sec. 4.7.2)
     const mpm::ContactStats c =
         mpm::resolve_phantom_contact(grid_, cracks_.phantoms().copy_kind, dt, model_.cracks.contact_friction);
-    CrackStats& stats = cracks_.stats();
-    stats.contact_pairs += c.pairs_resolved;
-    stats.max_contact_residual = std::max(stats.max_contact_residual, c.max_residual);
+    cracks_.count_contact(c.pairs_resolved, c.max_residual);
   }
 }
 
