@@ -31,12 +31,7 @@ struct FailureRegion {
 };
 
 // Rankine damage of a shell material (thesis Eq. 2.28-2.31, sec. 4.4.1); enabled by a "fracture" object.
-struct FractureSpec {
-  bool enabled = false;
-  double failure_stress = 0;   // sigma_f [Pa]
-  double fracture_energy = 0;  // G_f [J/m^2]
-  shell::DamageRule rule = shell::DamageRule::Healing;
-  double residual_stiffness = 0;  // r in [0, 0.1]: tensile principal stresses scaled by 1 - (1 - r) c
+struct FractureSpec : shell::FractureParams {  // what the shell's damage law reads, then the scene's parts
   std::vector<FailureRegion> regions;  // later regions win where they overlap
   core::WeibullStrength weibull;       // then a seeded factor per in-plane point (keeps each point's H)
 };

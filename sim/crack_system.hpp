@@ -29,11 +29,10 @@ struct CrackStats : CrackCounters {
 
 class CrackSystem {
  public:
-  // Failure stresses and brittleness of the fracturing shells (regions included), the crack graphs of
-  // the shells that can crack, with their prescribed cuts and the MLS bases those cuts require.
-  // `grid_dx` sets the characteristic length of the damage law. Throws SceneError for a fracture energy
-  // below what the grid allows.
-  CrackSystem(const scene::Model& model, World& world, double grid_dx);
+  // The crack graphs of the shells that can crack, with their prescribed cuts and the MLS bases those
+  // cuts require (the strengths of the damage law are set before, sim/fracture_setup.hpp). Throws
+  // SceneError for a cut that cannot be placed.
+  CrackSystem(const scene::Model& model, World& world);
   ~CrackSystem();
   CrackSystem(const CrackSystem&) = delete;
   CrackSystem& operator=(const CrackSystem&) = delete;

@@ -9,6 +9,7 @@
 #include "core/format.hpp"
 #include "scene/build.hpp"
 #include "scene/scene_error.hpp"
+#include "sim/fracture_setup.hpp"
 
 namespace shellfrac::sim {
 
@@ -27,6 +28,13 @@ double grid_spacing(const scene::Model& model, const World& world) {
   for (const scene::model::SolidBody& b : model.solids) smallest = std::min(smallest, 2.0 * b.spacing);
   for (const scene::model::BrittleBody& b : model.brittle_solids) smallest = std::min(smallest, b.solver.dx);
   return smallest;
+}
+
+// The world after init_fracture: the damage law's strengths need the grid spacing, and are set before the
+// crack system cuts the prescribed cracks.
+World& with_strengths(const scene::Model& model, World& world, double grid_dx) {
+  init_fracture(model, world, grid_dx);
+  return world;
 }
 
 }  // namespace
@@ -55,7 +63,7 @@ Simulation::Simulation(const scene::Model& model)
       pins_(model_, world_),
       loads_(model_, world_),
       grid_(grid_spacing(model_, world_)),
-      cracks_(model_, world_, grid_.dx()),
+      cracks_(model_, with_strengths(model_, world_, grid_.dx())),
       seams_(model_, world_),
       brittle_(model_),
       shatter_(model_) {

@@ -19,11 +19,7 @@ shell::ShellMaterial shell_material(const scene::model::Shell& s, const scene::m
   m.shear.k = s.material.compression_stiffness.value_or(s.material.youngs_modulus);
   m.shear.friction = s.material.shear_friction;
   m.plasticity = s.material.plasticity;
-  m.fracture.enabled = s.material.fracture.enabled;
-  m.fracture.failure_stress = s.material.fracture.failure_stress;
-  m.fracture.fracture_energy = s.material.fracture.fracture_energy;
-  m.fracture.rule = s.material.fracture.rule;
-  m.fracture.residual_stiffness = s.material.fracture.residual_stiffness;
+  m.fracture = s.material.fracture;  // its shell::FractureParams part
   if (grid.adaptive_shell(s)) m.shear_mass_share = scene::model::kAdaptiveShearMassShare;
   return m;
 }
