@@ -386,6 +386,204 @@ std::vector<std::vector<size_t>> trace_chevron_lines(const std::vector<Vec3>& po
   return lines;
 }
 
+namespace {
+
+bool has_crack(const Fragment& f) { return f.crack_faces.size() == f.mesh.triangles.size() && f.crack_triangles > 0; }
+
+const Vec3& corner(const TriMesh& m, size_t t, int k) { return m.positions[static_cast<size_t>(m.triangles[t][k])]; }
+
+const double kTriangleArea = std::sqrt(3.0) / 4.0;  // an equilateral triangle of unit edge
+
+// The refinement's edge, bounded before it runs: past max_triangles the edge grows to fit (the event keeps
+// its fragments; the report says which edge was used).
+double detail_edge(const FragmentSet& set, const FractureDetailOptions& o) {
+  double crack_area = 0;
+  for (const Fragment& frag : set.fragments)
+    if (has_crack(frag))
+      for (size_t t = 0; t < frag.mesh.triangles.size(); ++t)
+        if (frag.crack_faces[t]) crack_area += area_normal(frag.mesh, t).norm();
+  // Halving every edge longer than d leaves edges between d/2 and d, and the splits of one or two edges
+  // make some triangles skinny: their mean area measured 0.15 of the equilateral one at d (1.3x the
+  // budget with a factor of 4), so 8 keeps the count below the budget.
+  return std::max(o.edge, std::sqrt(8.0 * crack_area / (kTriangleArea * o.max_triangles)));
+}
+
+// The crack vertices of all fragments, welded by position.
+struct CrackPoints {
+  std::map<PositionKey, size_t> index;
+  std::vector<Vec3> points;
+  std::vector<std::vector<size_t>> users;  // fragments per point, ascending
+  std::vector<char> rim;                   // the object's surface uses the point too
+  std::vector<double> area;                // a third of the crack triangles around the point, over its fragments
+};
+
+// Step 1: refines every fragment's crack faces to `edge` and welds their vertices across the fragments.
+CrackPoints weld_crack_points(FragmentSet& set, double edge) {
+  CrackPoints c;
+  for (size_t f = 0; f < set.fragments.size(); ++f) {
+    Fragment& frag = set.fragments[f];
+    if (!has_crack(frag)) continue;
+    refine_crack_faces(frag.mesh, frag.crack_faces, edge);
+    for (size_t t = 0; t < frag.mesh.triangles.size(); ++t) {
+      if (!frag.crack_faces[t]) continue;
+      const double third = area_normal(frag.mesh, t).norm() / 3.0;
+      for (int k = 0; k < 3; ++k) {
+        const auto [it, added] = c.index.emplace(key_of(corner(frag.mesh, t, k)), c.points.size());
+        if (added) {
+          c.points.push_back(corner(frag.mesh, t, k));
+          c.users.emplace_back();
+          c.rim.push_back(0);
+          c.area.push_back(0.0);
+        }
+        c.area[it->second] += third;
+        std::vector<size_t>& u = c.users[it->second];
+        if (u.empty() || u.back() != f) u.push_back(f);
+      }
+    }
+  }
+  for (const Fragment& frag : set.fragments) {
+    if (!has_crack(frag)) continue;
+    for (size_t t = 0; t < frag.mesh.triangles.size(); ++t) {
+      if (frag.crack_faces[t]) continue;
+      for (int k = 0; k < 3; ++k) {
+        const auto it = c.index.find(key_of(corner(frag.mesh, t, k)));
+        if (it != c.index.end()) c.rim[it->second] = 1;
+      }
+    }
+  }
+  return c;
+}
+
+// Step 2: an oriented normal field. Each crack triangle of fragment f faces some fragment g across the
+// crack (the nearest crack triangle of another fragment); it adds its area normal to a grid, pointing from
+// the lower-numbered fragment of the two to the higher, so both faces of a crack add the same normal.
+// Everything that moves a vertex later is a function of its position only (grid fields and the distance to
+// the fixed points), so copies of a point on either side move alike even where the two sides were
+// triangulated differently.
+class CrackNormalField {
+ public:
+  CrackNormalField(const FragmentSet& set, double edge, double grid) : normal_(grid), area_(grid) {
+    std::vector<TriangleIndex> crack_index(set.fragments.size());
+    std::vector<std::pair<Vec3, Vec3>> box(set.fragments.size());
+    const double reach = 2.0 * edge;
+    for (size_t f = 0; f < set.fragments.size(); ++f) {
+      const Fragment& frag = set.fragments[f];
+      if (!has_crack(frag)) continue;
+      std::vector<Tri> tris;
+      for (size_t t = 0; t < frag.mesh.triangles.size(); ++t)
+        if (frag.crack_faces[t]) tris.push_back(frag.mesh.triangles[t]);
+      crack_index[f] = TriangleIndex(frag.mesh.positions, tris, edge, reach);
+      bounding_box(frag.mesh, box[f].first, box[f].second);
+    }
+    for (size_t f = 0; f < set.fragments.size(); ++f) {
+      const Fragment& frag = set.fragments[f];
+      if (!has_crack(frag)) continue;
+      for (size_t t = 0; t < frag.mesh.triangles.size(); ++t) {
+        if (!frag.crack_faces[t]) continue;
+        const Vec3 an = area_normal(frag.mesh, t);
+        const Vec3 centre = (corner(frag.mesh, t, 0) + corner(frag.mesh, t, 1) + corner(frag.mesh, t, 2)) / 3.0;
+        size_t across = SIZE_MAX;
+        double best = reach;
+        for (size_t g = 0; g < set.fragments.size(); ++g) {
+          if (g == f || crack_index[g].empty()) continue;
+          if (((centre.array() < box[g].first.array() - reach) || (centre.array() > box[g].second.array() + reach)).any())
+            continue;
+          const TriangleIndex::Hit hit = crack_index[g].closest(centre, best);
+          if (hit.found && hit.distance < best) {
+            best = hit.distance;
+            across = g;
+          }
+        }
+        if (across == SIZE_MAX) continue;  // no other fragment across (a crack ending inside this one)
+        normal_.add(centre, f < across ? an : Vec3(-an));
+        area_.add(centre, an.norm());
+      }
+    }
+  }
+  // The area-weighted mean oriented normal at x (shorter where normals cancel).
+  Vec3 mean(const Vec3& x) const {
+    const double w = area_.gather(x);
+    return w > 0 ? Vec3(normal_.gather(x) / w) : Vec3(Vec3::Zero());
+  }
+
+ private:
+  ScatterGrid<Vec3> normal_;
+  ScatterGrid<double> area_;
+};
+
+// Step 3: the damage time and its gradient (Eq. 3.13, 3.14) at the points, the chevron lines of
+// Algorithm 4, and their heights on a grid: 1 on every line, 2 - r on the longest share `enhanced` of them
+// (r: arc length from the source over the length).
+ScatterGrid<double> chevron_heights(const CrackPoints& c, const CrackNormalField& normals, const DamageTimeGrid& grid,
+                                    const FractureDetailOptions& o, double edge, FractureDetailReport& report) {
+  const size_t n = c.points.size();
+  std::vector<double> time(n, std::numeric_limits<double>::quiet_NaN());
+  std::vector<Vec3> gradient(n, Vec3::Zero()), normal(n, Vec3::Zero());
+  for (size_t p = 0; p < n; ++p) {
+    const Vec3 m = normals.mean(c.points[p]);
+    if (m.norm() > 0) normal[p] = m.normalized();
+    if (const std::optional<double> t = grid.time(c.points[p])) {
+      time[p] = *t;
+      gradient[p] = grid.gradient(c.points[p]);
+      ++report.timed_vertices;
+    }
+  }
+  const std::vector<std::vector<size_t>> lines =
+      trace_chevron_lines(c.points, normal, time, gradient, o.step, o.max_steps, o.radius);
+  std::vector<double> length(lines.size(), 0.0);
+  for (size_t l = 0; l < lines.size(); ++l)
+    for (size_t k = 1; k < lines[l].size(); ++k) length[l] += (c.points[lines[l][k]] - c.points[lines[l][k - 1]]).norm();
+  std::vector<size_t> by_length(lines.size());
+  std::iota(by_length.begin(), by_length.end(), size_t{0});
+  std::stable_sort(by_length.begin(), by_length.end(), [&](size_t a, size_t b) { return length[a] > length[b]; });
+  // m is a share of the lines that mark something (two or more points); they come first by length.
+  const size_t marking = static_cast<size_t>(std::count_if(lines.begin(), lines.end(), [](const auto& l) { return l.size() >= 2; }));
+  const size_t enhanced = static_cast<size_t>(std::floor(o.enhanced * static_cast<double>(marking)));
+  ScatterGrid<double> heights(o.grid);  // beta_i = sum_v w_iv beta_v
+  const double reference_area = kTriangleArea * edge * edge;  // a vertex's share at edge d
+  for (size_t rank = 0; rank < by_length.size(); ++rank) {
+    const std::vector<size_t>& line = lines[by_length[rank]];
+    if (line.size() < 2) continue;  // a lone point marks nothing
+    ++report.lines;
+    report.longest_line = std::max(report.longest_line, line.size());
+    const bool enhance = rank < enhanced && length[by_length[rank]] > 0;
+    report.enhanced_lines += enhance;
+    double along = 0;
+    for (size_t k = 0; k < line.size(); ++k) {
+      if (k) along += (c.points[line[k]] - c.points[line[k - 1]]).norm();
+      // Each vertex stands for its share of the surface: with the refinement's uneven vertex density an
+      // unweighted sum would add noise of that density to the marks (the thesis refines uniformly).
+      const double share = c.area[line[k]] / (static_cast<double>(c.users[line[k]].size()) * reference_area);
+      heights.add(c.points[line[k]], share * (1.0 + (enhance ? 1.0 - along / length[by_length[rank]] : 0.0)));
+    }
+  }
+  return heights;
+}
+
+// Step 4: moves every copy of every crack point to `moved`, counts the crack triangles that folded over,
+// gives crack triangles smooth normals, and computes the fragments' mass properties again.
+void move_crack_points(FragmentSet& set, const CrackPoints& c, const std::vector<Vec3>& moved, double density,
+                       FractureDetailReport& report) {
+  for (Fragment& frag : set.fragments) {
+    if (!has_crack(frag)) continue;
+    TriMesh& mesh = frag.mesh;
+    std::vector<Vec3> before_normal(mesh.triangles.size(), Vec3::Zero());
+    for (size_t t = 0; t < mesh.triangles.size(); ++t)
+      if (frag.crack_faces[t]) before_normal[t] = area_normal(mesh, t);
+    for (Vec3& x : mesh.positions) {
+      const auto it = c.index.find(key_of(x));
+      if (it != c.index.end()) x = moved[it->second];
+    }
+    for (size_t t = 0; t < mesh.triangles.size(); ++t)
+      if (frag.crack_faces[t] && area_normal(mesh, t).dot(before_normal[t]) <= 0) ++report.folded_triangles;
+    if (mesh.has_normals()) smooth_crack_normals(mesh, frag.crack_faces);
+    frag.crack_triangles = static_cast<size_t>(std::count(frag.crack_faces.begin(), frag.crack_faces.end(), 1));
+    frag.properties = mass_properties(mesh, density);
+  }
+}
+
+}  // namespace
+
 FractureDetailReport add_fracture_detail(FragmentSet& set, const std::vector<Vec3>& rest,
                                          const std::vector<ParticleDamage>& damage, const FractureDetailOptions& o,
                                          double density) {
@@ -396,198 +594,33 @@ FractureDetailReport add_fracture_detail(FragmentSet& set, const std::vector<Vec
     throw InputError("fracture detail: edge, step and grid must be positive, radius and max_steps not negative, "
                      "enhanced in [0, 1]");
   const auto t0 = std::chrono::steady_clock::now();
-  auto has_crack = [](const Fragment& f) { return f.crack_faces.size() == f.mesh.triangles.size() && f.crack_triangles > 0; };
-  auto corner = [](const TriMesh& m, size_t t, int k) -> const Vec3& {
-    return m.positions[static_cast<size_t>(m.triangles[t][k])];
-  };
-
-  // The refinement's size is bounded before it runs: past max_triangles the edge grows to fit (the event
-  // keeps its fragments; the report says which edge was used).
-  double crack_area = 0;
-  for (const Fragment& frag : set.fragments)
-    if (has_crack(frag))
-      for (size_t t = 0; t < frag.mesh.triangles.size(); ++t)
-        if (frag.crack_faces[t])
-          crack_area += area_normal(frag.mesh, t).norm();
-  const double triangle_area = std::sqrt(3.0) / 4.0;  // of an equilateral triangle of unit edge
-  // Halving every edge longer than d leaves edges between d/2 and d, and the splits of one or two edges
-  // make some triangles skinny: their mean area measured 0.15 of the equilateral one at d (1.3x the
-  // budget with a factor of 4), so 8 keeps the count below the budget.
-  const double edge = std::max(o.edge, std::sqrt(8.0 * crack_area / (triangle_area * o.max_triangles)));
+  const double edge = detail_edge(set, o);
   report.edge = edge;
-
-  // 1. Refined crack faces; the crack vertices welded by position across the fragments, with the
-  //    fragments that use each and whether the object's surface does too (a rim).
-  std::map<PositionKey, size_t> point_of;
-  std::vector<Vec3> points;
-  std::vector<std::vector<size_t>> users;  // fragments per point, ascending
-  std::vector<char> rim;
-  std::vector<double> area;  // a third of the crack triangles around the point, over its fragments
-  for (size_t f = 0; f < set.fragments.size(); ++f) {
-    Fragment& frag = set.fragments[f];
-    if (!has_crack(frag)) continue;
-    refine_crack_faces(frag.mesh, frag.crack_faces, edge);
-    for (size_t t = 0; t < frag.mesh.triangles.size(); ++t) {
-      if (!frag.crack_faces[t]) continue;
-      const double third = area_normal(frag.mesh, t).norm() / 3.0;
-      for (int k = 0; k < 3; ++k) {
-        const auto [it, added] = point_of.emplace(key_of(corner(frag.mesh, t, k)), points.size());
-        if (added) {
-          points.push_back(corner(frag.mesh, t, k));
-          users.emplace_back();
-          rim.push_back(0);
-          area.push_back(0.0);
-        }
-        area[it->second] += third;
-        std::vector<size_t>& u = users[it->second];
-        if (u.empty() || u.back() != f) u.push_back(f);
-      }
-    }
-  }
-  for (const Fragment& frag : set.fragments) {
-    if (!has_crack(frag)) continue;
-    for (size_t t = 0; t < frag.mesh.triangles.size(); ++t) {
-      if (frag.crack_faces[t]) continue;
-      for (int k = 0; k < 3; ++k) {
-        const auto it = point_of.find(key_of(corner(frag.mesh, t, k)));
-        if (it != point_of.end()) rim[it->second] = 1;
-      }
-    }
-  }
-  const size_t n = points.size();
+  const CrackPoints c = weld_crack_points(set, edge);
+  const size_t n = c.points.size();
   report.crack_vertices = n;
   if (n == 0) return report;
+  const CrackNormalField normals(set, edge, o.grid);
+  const ScatterGrid<double> heights = chevron_heights(c, normals, DamageTimeGrid(rest, damage, o.grid), o, edge, report);
 
-  // 2. An oriented normal field. Each crack triangle of fragment f faces some fragment g across the crack
-  //    (the nearest crack triangle of another fragment); it adds its area normal to a grid, pointing from
-  //    the lower-numbered fragment of the two to the higher, so both faces of a crack add the same normal.
-  //    Everything that moves a vertex below is a function of its position only (grid fields and the
-  //    distance to the fixed points), so copies of a point on either side move alike even where the two
-  //    sides were triangulated differently.
-  std::vector<TriangleIndex> crack_index(set.fragments.size());
-  std::vector<std::pair<Vec3, Vec3>> box(set.fragments.size());
-  const double reach = 2.0 * edge;
-  for (size_t f = 0; f < set.fragments.size(); ++f) {
-    const Fragment& frag = set.fragments[f];
-    if (!has_crack(frag)) continue;
-    std::vector<Tri> tris;
-    for (size_t t = 0; t < frag.mesh.triangles.size(); ++t)
-      if (frag.crack_faces[t]) tris.push_back(frag.mesh.triangles[t]);
-    crack_index[f] = TriangleIndex(frag.mesh.positions, tris, edge, reach);
-    bounding_box(frag.mesh, box[f].first, box[f].second);
-  }
-  ScatterGrid<Vec3> normal_field(o.grid);
-  ScatterGrid<double> area_field(o.grid);
-  for (size_t f = 0; f < set.fragments.size(); ++f) {
-    const Fragment& frag = set.fragments[f];
-    if (!has_crack(frag)) continue;
-    for (size_t t = 0; t < frag.mesh.triangles.size(); ++t) {
-      if (!frag.crack_faces[t]) continue;
-      const Vec3 an = area_normal(frag.mesh, t);
-      const Vec3 centre = (corner(frag.mesh, t, 0) + corner(frag.mesh, t, 1) + corner(frag.mesh, t, 2)) / 3.0;
-      size_t across = SIZE_MAX;
-      double best = reach;
-      for (size_t g = 0; g < set.fragments.size(); ++g) {
-        if (g == f || crack_index[g].empty()) continue;
-        if (((centre.array() < box[g].first.array() - reach) || (centre.array() > box[g].second.array() + reach)).any()) continue;
-        const TriangleIndex::Hit hit = crack_index[g].closest(centre, best);
-        if (hit.found && hit.distance < best) {
-          best = hit.distance;
-          across = g;
-        }
-      }
-      if (across == SIZE_MAX) continue;  // no other fragment across (a crack ending inside this one)
-      normal_field.add(centre, f < across ? an : Vec3(-an));
-      area_field.add(centre, an.norm());
-    }
-  }
-  // Fixed: rims and points where three or more fragments meet; the detail fades to zero within 2 d of them.
+  // x' = x + n beta' G (beta'_v = sum_i w_iv beta_i, unnormalised), faded to zero within 2 d of the fixed
+  // points: rims and points where three or more fragments meet.
   std::vector<Vec3> fixed_points;
   for (size_t p = 0; p < n; ++p)
-    if (rim[p] || users[p].size() >= 3) fixed_points.push_back(points[p]);
+    if (c.rim[p] || c.users[p].size() >= 3) fixed_points.push_back(c.points[p]);
   const double fade = 2.0 * edge;
   const PointHash fixed_hash(fixed_points, fade);
-  auto taper = [&](const Vec3& x) {
-    const size_t near = fixed_hash.nearest(x, fade);
-    return near == SIZE_MAX ? 1.0 : (fixed_points[near] - x).norm() / fade;
-  };
-  auto mean_normal = [&](const Vec3& x) {  // area-weighted mean oriented normal (shorter where normals cancel)
-    const double w = area_field.gather(x);
-    return w > 0 ? Vec3(normal_field.gather(x) / w) : Vec3(Vec3::Zero());
-  };
-
-  // 3. The damage time and its gradient (Eq. 3.13, 3.14) at the points; Algorithm 4; the heights: 1 on
-  //    every line, 2 - r on the longest share m of them (r: arc length from the source over the length).
-  const DamageTimeGrid grid(rest, damage, o.grid);
-  std::vector<double> time(n, std::numeric_limits<double>::quiet_NaN());
-  std::vector<Vec3> gradient(n, Vec3::Zero()), normal(n, Vec3::Zero());
-  for (size_t p = 0; p < n; ++p) {
-    const Vec3 m = mean_normal(points[p]);
-    if (m.norm() > 0) normal[p] = m.normalized();
-    if (const std::optional<double> t = grid.time(points[p])) {
-      time[p] = *t;
-      gradient[p] = grid.gradient(points[p]);
-      ++report.timed_vertices;
-    }
-  }
-  const std::vector<std::vector<size_t>> lines =
-      trace_chevron_lines(points, normal, time, gradient, o.step, o.max_steps, o.radius);
-  std::vector<double> length(lines.size(), 0.0);
-  for (size_t l = 0; l < lines.size(); ++l)
-    for (size_t k = 1; k < lines[l].size(); ++k) length[l] += (points[lines[l][k]] - points[lines[l][k - 1]]).norm();
-  std::vector<size_t> by_length(lines.size());
-  std::iota(by_length.begin(), by_length.end(), size_t{0});
-  std::stable_sort(by_length.begin(), by_length.end(), [&](size_t a, size_t b) { return length[a] > length[b]; });
-  // m is a share of the lines that mark something (two or more points); they come first by length.
-  const size_t marking = static_cast<size_t>(std::count_if(lines.begin(), lines.end(), [](const auto& l) { return l.size() >= 2; }));
-  const size_t enhanced = static_cast<size_t>(std::floor(o.enhanced * static_cast<double>(marking)));
-  ScatterGrid<double> heights(o.grid);  // beta_i = sum_v w_iv beta_v
-  const double reference_area = triangle_area * edge * edge;  // a vertex's share at edge d
-  for (size_t rank = 0; rank < by_length.size(); ++rank) {
-    const std::vector<size_t>& line = lines[by_length[rank]];
-    if (line.size() < 2) continue;  // a lone point marks nothing
-    ++report.lines;
-    report.longest_line = std::max(report.longest_line, line.size());
-    const bool enhance = rank < enhanced && length[by_length[rank]] > 0;
-    report.enhanced_lines += enhance;
-    double along = 0;
-    for (size_t k = 0; k < line.size(); ++k) {
-      if (k) along += (points[line[k]] - points[line[k - 1]]).norm();
-      // Each vertex stands for its share of the surface: with the refinement's uneven vertex density an
-      // unweighted sum would add noise of that density to the marks (the thesis refines uniformly).
-      const double share = area[line[k]] / (static_cast<double>(users[line[k]].size()) * reference_area);
-      heights.add(points[line[k]], share * (1.0 + (enhance ? 1.0 - along / length[by_length[rank]] : 0.0)));
-    }
-  }
-
-  // 4. x' = x + n beta' G (beta'_v = sum_i w_iv beta_i, unnormalised), faded near the fixed points, for
-  //    every copy of every crack point; crack triangles get smooth normals; mass properties again.
-  auto displacement = [&](const Vec3& x) -> Vec3 { return mean_normal(x) * (heights.gather(x) * o.height * taper(x)); };
   std::vector<Vec3> moved(n);
   for (size_t p = 0; p < n; ++p) {
-    const Vec3 d = displacement(points[p]);
-    moved[p] = points[p] + d;
+    const Vec3& x = c.points[p];
+    const size_t near = fixed_hash.nearest(x, fade);
+    const double taper = near == SIZE_MAX ? 1.0 : (fixed_points[near] - x).norm() / fade;
+    const Vec3 d = normals.mean(x) * (heights.gather(x) * o.height * taper);
+    moved[p] = x + d;
     if (d.squaredNorm() > 0) ++report.moved_vertices;
     report.max_displacement = std::max(report.max_displacement, d.norm());
   }
-  for (Fragment& frag : set.fragments) {
-    if (!has_crack(frag)) continue;
-    TriMesh& mesh = frag.mesh;
-    std::vector<Vec3> before_normal(mesh.triangles.size(), Vec3::Zero());
-    for (size_t t = 0; t < mesh.triangles.size(); ++t)
-      if (frag.crack_faces[t]) before_normal[t] = area_normal(mesh, t);
-    for (Vec3& x : mesh.positions) {
-      const auto it = point_of.find(key_of(x));
-      if (it != point_of.end()) x = moved[it->second];
-    }
-    for (size_t t = 0; t < mesh.triangles.size(); ++t)
-      if (frag.crack_faces[t] &&
-          area_normal(mesh, t).dot(before_normal[t]) <= 0)
-        ++report.folded_triangles;
-    if (mesh.has_normals()) smooth_crack_normals(mesh, frag.crack_faces);
-    frag.crack_triangles = static_cast<size_t>(std::count(frag.crack_faces.begin(), frag.crack_faces.end(), 1));
-    frag.properties = mass_properties(mesh, density);
-  }
+  move_crack_points(set, c, moved, density, report);
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return report;
 }
