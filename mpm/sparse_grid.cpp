@@ -70,6 +70,34 @@ long SparseGrid::node_index(int i, int j, int k) const {
   return static_cast<long>(b) * kBlockNodes + local;
 }
 
+void SparseGrid::build_layout(const std::vector<uint64_t>& particle_keys) {
+  std::vector<uint64_t> occupied = particle_keys;
+  tbb::parallel_sort(occupied.begin(), occupied.end());
+  occupied.erase(std::unique(occupied.begin(), occupied.end()), occupied.end());
+  active_keys_.clear();
+  active_keys_.reserve(occupied.size() * 8);
+  for (uint64_t k : occupied) {
+    const Eigen::Vector3i c = unpack(k);
+    for (int d = 0; d < 8; ++d) active_keys_.push_back(pack(c.x() + (d & 1), c.y() + ((d >> 1) & 1), c.z() + (d >> 2)));
+  }
+  tbb::parallel_sort(active_keys_.begin(), active_keys_.end());
+  active_keys_.erase(std::unique(active_keys_.begin(), active_keys_.end()), active_keys_.end());
+  if (active_keys_ != previous_keys_) {
+    static std::atomic<uint64_t> versions{0};  // unique across grids, so no other grid's number matches
+    layout_version_ = ++versions;
+    previous_keys_ = active_keys_;
+  }
+  const size_t num_blocks = active_keys_.size();
+  block_coords_.resize(num_blocks);
+  forward_neighbours_.resize(num_blocks);
+  tbb::parallel_for(size_t{0}, num_blocks, [&](size_t b) {
+    const BlockCoord c = unpack(active_keys_[b]);
+    block_coords_[b] = c;
+    for (int d = 0; d < 8; ++d)
+      forward_neighbours_[b][static_cast<size_t>(d)] = find_block(pack(c.x() + (d & 1), c.y() + ((d >> 1) & 1), c.z() + (d >> 2)));
+  });
+}
+
 void SparseGrid::rebuild(const std::vector<ParticleSet>& sets) {
   // 1. Block of every particle's base node (parallel; the first bad particle is reported, in order).
   std::vector<size_t> first(sets.size() + 1, 0);
@@ -107,37 +135,38 @@ void SparseGrid::rebuild(const std::vector<ParticleSet>& sets) {
 
   // 2. Active blocks: particle blocks and their forward neighbours (stencils reach base + 2), as a
   //    sorted key list: the block order is deterministic and spatially coherent, and a binary search
-  //    replaces a hash map.
-  std::vector<uint64_t> occupied = keys;
-  tbb::parallel_sort(occupied.begin(), occupied.end());
-  occupied.erase(std::unique(occupied.begin(), occupied.end()), occupied.end());
-  active_keys_.clear();
-  active_keys_.reserve(occupied.size() * 8);
-  for (uint64_t k : occupied) {
-    const Eigen::Vector3i c = unpack(k);
-    for (int d = 0; d < 8; ++d) active_keys_.push_back(pack(c.x() + (d & 1), c.y() + ((d >> 1) & 1), c.z() + (d >> 2)));
+  //    replaces a hash map. Particles move less than a cell per step, so the layout of the step before
+  //    usually still holds every particle's block and its forward neighbours: then it is kept, and the
+  //    sort of the particle keys is skipped. Blocks it holds that no particle reaches any more get no mass,
+  //    so the transfers and every sum over blocks give the same bits as a fresh layout. After
+  //    layout_reuse_ steps the layout is built afresh, which drops them.
+  std::vector<uint32_t> block_of_entry(total);
+  bool keep = reused_layouts_ < layout_reuse_ && !active_keys_.empty();
+  if (keep) {
+    std::atomic<bool> fits{true};
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end() && fits.load(std::memory_order_relaxed); ++i) {
+        const int32_t b = find_block(keys[i]);
+        if (b < 0 || std::any_of(forward_neighbours_[static_cast<size_t>(b)].begin(),
+                                 forward_neighbours_[static_cast<size_t>(b)].end(), [](int32_t n) { return n < 0; })) {
+          fits = false;
+          return;
+        }
+        block_of_entry[i] = static_cast<uint32_t>(b);
+      }
+    });
+    keep = fits;
   }
-  tbb::parallel_sort(active_keys_.begin(), active_keys_.end());
-  active_keys_.erase(std::unique(active_keys_.begin(), active_keys_.end()), active_keys_.end());
-  if (active_keys_ != previous_keys_) {
-    static std::atomic<uint64_t> versions{0};  // unique across grids, so no other grid's number matches
-    layout_version_ = ++versions;
-    previous_keys_ = active_keys_;
+  if (keep) {
+    ++reused_layouts_;
+  } else {
+    reused_layouts_ = 0;
+    build_layout(keys);
+    tbb::parallel_for(size_t{0}, total, [&](size_t i) { block_of_entry[i] = static_cast<uint32_t>(find_block(keys[i])); });
   }
   const size_t num_blocks = active_keys_.size();
 
-  block_coords_.resize(num_blocks);
-  forward_neighbours_.resize(num_blocks);
-  tbb::parallel_for(size_t{0}, num_blocks, [&](size_t b) {
-    const BlockCoord c = unpack(active_keys_[b]);
-    block_coords_[b] = c;
-    for (int d = 0; d < 8; ++d)
-      forward_neighbours_[b][static_cast<size_t>(d)] = find_block(pack(c.x() + (d & 1), c.y() + ((d >> 1) & 1), c.z() + (d >> 2)));
-  });
-
   // 3. Bin particles per block (stable counting sort keeps set/particle order inside a block).
-  std::vector<uint32_t> block_of_entry(total);
-  tbb::parallel_for(size_t{0}, total, [&](size_t i) { block_of_entry[i] = static_cast<uint32_t>(find_block(keys[i])); });
   bin_offsets_.assign(num_blocks + 1, 0);
   for (size_t i = 0; i < total; ++i) ++bin_offsets_[block_of_entry[i] + 1];
   for (size_t b = 0; b < num_blocks; ++b) bin_offsets_[b + 1] += bin_offsets_[b];
