@@ -88,19 +88,10 @@ size_t solid_index(const sim::Simulation& sim, const py::handle& solid) {
   return static_cast<size_t>(k);
 }
 
-void bind_simulation(py::module_& m) {
-  py::class_<State> c(m, "Simulation",
-                      "A running scene: Kirchhoff-Love shell patches (control points, shear particles, quadrature "
-                      "points) and solids on a sparse MPM grid (thesis sec. 4.3), advanced by explicit symplectic "
-                      "Euler steps.\n\nArrays returned by positions(), velocities(), masses(), damage(), ... are "
-                      "read-only NumPy views of the solver's memory: they show the state after every later step "
-                      "and are valid as long as the Simulation (they keep it alive). Stepping releases the GIL; "
-                      "Ctrl-C stops it between steps with KeyboardInterrupt. Shells and solids are chosen by index "
-                      "or name.");
-  c.def(py::init<const scene::Scene&, int>(), py::arg("scene"), py::arg("threads") = 0,
-        "Builds the scene (validation, defaults, geometry) and its particles. threads: TBB threads of this "
-        "simulation's parallel loops (0: all cores); results are deterministic for a thread count. Raises "
-        "SceneError.");
+namespace {
+
+// Stepping, time, names and energy.
+void bind_stepping(py::class_<State>& c) {
   c.def(
       "step",
       [](py::object self, std::optional<double> dt) {
@@ -160,8 +151,10 @@ void bind_simulation(py::module_& m) {
                             return s.locked([&] { return s.sim->kinetic_energy(); });
                           },
                           "Kinetic energy of all particles [J] (sum 1/2 m |v|^2).");
+}
 
-  // Type II: control points x_i, v_i, m_i (thesis sec. 4.3.1).
+// Type II: control points x_i, v_i, m_i (thesis sec. 4.3.1).
+void bind_control_points(py::class_<State>& c) {
   c.def(
       "positions", [](py::object self, py::object shell) {
         const sim::Simulation& sim = *state_of(self).sim;
@@ -180,7 +173,9 @@ void bind_simulation(py::module_& m) {
         const sim::Simulation& sim = *state_of(self).sim;
         return view_scalars(sim.world().shell(shell_index(sim, shell)).mass, self);
       },
-      py::arg("shell") = 0, "Lumped control-point masses m_i [kg], (n,) read-only view.");
+      py::arg("shell") = 0,
+      "Lumped control-point masses m_i of the material [kg], (n,) read-only view (without the added mass of "
+      "cracks.mass_scaling, which kinetic_energy and the momentum include).");
   c.def(
       "set_velocities",
       [](py::object self, py::object shell, const py::array_t<double, py::array::c_style | py::array::forcecast>& v) {
@@ -198,7 +193,10 @@ void bind_simulation(py::module_& m) {
       },
       py::arg("shell"), py::arg("v"),
       "Overwrites a shell's control-point velocities (an (n, 3) array copied in), e.g. to set up an initial state.");
+}
 
+// Type III shear particles and Type IV quadrature points (thesis sec. 4.3.2, 4.3.3, 4.4.1).
+void bind_shell_points(py::class_<State>& c) {
   // Type III: shear particles, one per cell (thesis sec. 4.3.2).
   c.def(
       "shear_particles", [](py::object self, py::object shell) {
@@ -253,8 +251,10 @@ void bind_simulation(py::module_& m) {
       "Kirchhoff-Love deformation gradient F^KL = sum_i g_i (x) Gbar^i (thesis Eq. 4.5) of every quadrature "
       "point and layer, (n, layers, 3, 3). A COPY, recomputed from the current control points (the solver keeps "
       "no F per point). NaN where a point carries no stress (a rigid or removed sliver).");
+}
 
-  // Type I: solid particles.
+// Type I: solid particles.
+void bind_solid_particles(py::class_<State>& c) {
   c.def(
       "solid_particles", [](py::object self, py::object solid) {
         const sim::Simulation& sim = *state_of(self).sim;
@@ -269,7 +269,27 @@ void bind_simulation(py::module_& m) {
       },
       py::arg("solid") = 0,
       "Type I particles of a solid as read-only views: x, v (n, 3), mass, volume (n,), F (n, 3, 3).");
+}
 
+}  // namespace
+
+void bind_simulation(py::module_& m) {
+  py::class_<State> c(m, "Simulation",
+                      "A running scene: Kirchhoff-Love shell patches (control points, shear particles, quadrature "
+                      "points) and solids on a sparse MPM grid (thesis sec. 4.3), advanced by explicit symplectic "
+                      "Euler steps.\n\nArrays returned by positions(), velocities(), masses(), damage(), ... are "
+                      "read-only NumPy views of the solver's memory: they show the state after every later step "
+                      "and are valid as long as the Simulation (they keep it alive). Stepping releases the GIL; "
+                      "Ctrl-C stops it between steps with KeyboardInterrupt. Shells and solids are chosen by index "
+                      "or name.");
+  c.def(py::init<const scene::Scene&, int>(), py::arg("scene"), py::arg("threads") = 0,
+        "Builds the scene (validation, defaults, geometry) and its particles. threads: TBB threads of this "
+        "simulation's parallel loops (0: all cores); results are deterministic for a thread count. Raises "
+        "SceneError.");
+  bind_stepping(c);
+  bind_control_points(c);
+  bind_shell_points(c);
+  bind_solid_particles(c);
   bind_simulation_outputs(c);
 }
 
