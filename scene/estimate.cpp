@@ -215,6 +215,94 @@ void add_shell_particles(const Scene& scene, const Shell& s, const std::string& 
     for (const double u : spans(surface.knots_u())) blocks.add(surface.point(u, v));
 }
 
+// A solid's volume, surface area and bounds, and the level-set voxels of a mesh solid.
+struct SolidSize {
+  double volume = 0, area = 0, voxel = 0, band = 3;
+  Box box;
+};
+
+SolidSize solid_size(const Scene& scene, size_t i) {
+  const Solid& s = scene.solids[i];
+  SolidSize out;
+  if (s.shape == "mesh") {
+    const MeshStats m = read_mesh(scene, s.mesh, "/solids/" + std::to_string(i));
+    out.volume = std::abs(m.volume);
+    out.area = m.area;
+    out.voxel = s.mesh.voxel_size.value_or(0.5 * *s.spacing);
+    out.band = s.mesh.band_voxels.value_or(3.0);
+    out.box.add(m.lo);
+    out.box.add(m.hi);
+  } else if (s.shape == "sphere") {
+    out.volume = 4.0 / 3.0 * core::kPi * std::pow(*s.radius, 3);
+    out.box.add(vec(*s.center) - Eigen::Vector3d::Constant(*s.radius));
+    out.box.add(vec(*s.center) + Eigen::Vector3d::Constant(*s.radius));
+  } else {
+    const Eigen::Vector3d h = vec(*s.half_extents);
+    out.volume = 8.0 * h.prod();
+    out.box.add(vec(*s.center) - h);
+    out.box.add(vec(*s.center) + h);
+  }
+  return out;
+}
+
+// The step: the stability bound of sim/simulation.cpp (elastic waves, cfl, particle speed) and time.dt, with
+// the scene path that sets it.
+double stable_step(const Scene& scene, const std::vector<ShellSize>& shells, double grid_dx, std::string& dt_path) {
+  const double cfl = scene.time.cfl.value_or(0.5);
+  double bound = 1e300;
+  std::string bound_path = "/time/dt";
+  for (size_t i = 0; i < shells.size(); ++i) {
+    const Material& m = *scene.shells[i].material;
+    const double c = wave_speed(*m.youngs_modulus, *m.poisson_ratio, *m.density);
+    const double h = std::min(grid_dx, shells[i].cells > 0 ? std::sqrt(shells[i].area / shells[i].cells) : grid_dx);
+    const double b = std::min(h / c, std::sqrt(3.0) * h * h / (c * shells[i].thickness));
+    if (b < bound) {
+      bound = b;
+      // The more extreme of stiffness and density names the problem.
+      const std::string mat = "/shells/" + std::to_string(i) + "/material/";
+      bound_path = mat + (std::abs(std::log10(*m.youngs_modulus / 1e6)) >= std::abs(std::log10(*m.density / 1e3)) ? "E" : "density");
+    }
+  }
+  for (size_t i = 0; i < scene.solids.size(); ++i) {
+    if (scene.solids[i].rigid_body) continue;  // the shatter loop's bodies: MPM runs only inside events
+    const SolidMaterial& m = *scene.solids[i].material;
+    const double E = *m.youngs_modulus, nu = *m.poisson_ratio;
+    const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+    const double b = grid_dx / std::sqrt((lambda + 2 * mu) / *m.density);
+    if (b < bound) {
+      bound = b;
+      const std::string mat = "/solids/" + std::to_string(i) + "/material/";
+      bound_path = mat + (std::abs(std::log10(E / 1e6)) >= std::abs(std::log10(*m.density / 1e3)) ? "E" : "density");
+    }
+  }
+  double dt = cfl * bound;
+  dt_path = scene.time.cfl && cfl < 1e-3 ? "/time/cfl" : bound_path;
+  if (scene.time.enforce_stability_bound == false) {
+    dt = *scene.time.dt;
+    dt_path = "/time/dt";
+  } else if (scene.time.dt && *scene.time.dt < dt) {
+    dt = *scene.time.dt;
+    dt_path = "/time/dt";
+  }
+  double vmax = 0;
+  std::string v_path;
+  for (size_t i = 0; i < scene.shells.size(); ++i)
+    if (norm(scene.shells[i].initial_velocity) > vmax) {
+      vmax = norm(scene.shells[i].initial_velocity);
+      v_path = "/shells/" + std::to_string(i) + "/initial_velocity";
+    }
+  for (size_t i = 0; i < scene.solids.size(); ++i)
+    if (!scene.solids[i].rigid_body && norm(scene.solids[i].initial_velocity) > vmax) {
+      vmax = norm(scene.solids[i].initial_velocity);
+      v_path = "/solids/" + std::to_string(i) + "/initial_velocity";
+    }
+  if (vmax > 0 && cfl * grid_dx / vmax < dt && scene.time.enforce_stability_bound != false) {
+    dt = cfl * grid_dx / vmax;
+    dt_path = v_path;
+  }
+  return dt;
+}
+
 }  // namespace
 
 const ResourceItem& ResourceEstimate::largest() const {
@@ -243,37 +331,12 @@ ResourceEstimate estimate_resources(const Scene& input) {
     if (s.cells > 0) smallest_cell = std::min(smallest_cell, std::sqrt(s.area / s.cells));
   }
   // Solids: volume and bounds; mesh solids read their file (bounds, area, volume; no level set).
-  struct SolidSize {
-    double volume = 0, area = 0, voxel = 0, band = 3;
-    Box box;
-  };
   std::vector<SolidSize> solids;
   for (size_t i = 0; i < scene.solids.size(); ++i) {
-    const Solid& s = scene.solids[i];
-    const std::string path = "/solids/" + std::to_string(i);
-    SolidSize out;
-    if (s.shape == "mesh") {
-      const MeshStats m = read_mesh(scene, s.mesh, path);
-      out.volume = std::abs(m.volume);
-      out.area = m.area;
-      out.voxel = s.mesh.voxel_size.value_or(0.5 * *s.spacing);
-      out.band = s.mesh.band_voxels.value_or(3.0);
-      out.box.add(m.lo);
-      out.box.add(m.hi);
-    } else if (s.shape == "sphere") {
-      out.volume = 4.0 / 3.0 * core::kPi * std::pow(*s.radius, 3);
-      out.box.add(vec(*s.center) - Eigen::Vector3d::Constant(*s.radius));
-      out.box.add(vec(*s.center) + Eigen::Vector3d::Constant(*s.radius));
-    } else {
-      const Eigen::Vector3d h = vec(*s.half_extents);
-      out.volume = 8.0 * h.prod();
-      out.box.add(vec(*s.center) - h);
-      out.box.add(vec(*s.center) + h);
-    }
-    box.add(out.box.lo);
-    box.add(out.box.hi);
-    smallest_cell = std::min(smallest_cell, 2.0 * *s.spacing);
-    solids.push_back(out);
+    solids.push_back(solid_size(scene, i));
+    box.add(solids.back().box.lo);
+    box.add(solids.back().box.hi);
+    smallest_cell = std::min(smallest_cell, 2.0 * *scene.solids[i].spacing);
   }
   e.grid_dx = scene.grid.dx.value_or(smallest_cell);
   const std::string dx_path = scene.grid.dx ? "/grid/dx" : shells.empty() ? "/solids/0/spacing" : shells[0].count_path;
@@ -341,65 +404,13 @@ ResourceEstimate estimate_resources(const Scene& input) {
   e.memory_bytes = kBaseBytes;
   for (const ResourceItem& item : e.memory) e.memory_bytes += item.bytes;
 
-  // Steps: the stability bound of sim/simulation.cpp (elastic waves, cfl, particle speed) and time.dt.
-  const double cfl = scene.time.cfl.value_or(0.5);
-  double bound = 1e300;
-  std::string bound_path = "/time/dt";
-  for (size_t i = 0; i < shells.size(); ++i) {
-    const Material& m = *scene.shells[i].material;
-    const double c = wave_speed(*m.youngs_modulus, *m.poisson_ratio, *m.density);
-    const double h = std::min(e.grid_dx, shells[i].cells > 0 ? std::sqrt(shells[i].area / shells[i].cells) : e.grid_dx);
-    const double b = std::min(h / c, std::sqrt(3.0) * h * h / (c * shells[i].thickness));
-    if (b < bound) {
-      bound = b;
-      // The more extreme of stiffness and density names the problem.
-      const std::string mat = "/shells/" + std::to_string(i) + "/material/";
-      bound_path = mat + (std::abs(std::log10(*m.youngs_modulus / 1e6)) >= std::abs(std::log10(*m.density / 1e3)) ? "E" : "density");
-    }
-  }
-  for (size_t i = 0; i < scene.solids.size(); ++i) {
-    if (scene.solids[i].rigid_body) continue;  // the shatter loop's bodies: MPM runs only inside events
-    const SolidMaterial& m = *scene.solids[i].material;
-    const double E = *m.youngs_modulus, nu = *m.poisson_ratio;
-    const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
-    const double b = e.grid_dx / std::sqrt((lambda + 2 * mu) / *m.density);
-    if (b < bound) {
-      bound = b;
-      const std::string mat = "/solids/" + std::to_string(i) + "/material/";
-      bound_path = mat + (std::abs(std::log10(E / 1e6)) >= std::abs(std::log10(*m.density / 1e3)) ? "E" : "density");
-    }
-  }
-  double dt = cfl * bound;
-  std::string dt_path = scene.time.cfl && cfl < 1e-3 ? "/time/cfl" : bound_path;
-  if (scene.time.enforce_stability_bound == false) {
-    dt = *scene.time.dt;
-    dt_path = "/time/dt";
-  } else if (scene.time.dt && *scene.time.dt < dt) {
-    dt = *scene.time.dt;
-    dt_path = "/time/dt";
-  }
-  double vmax = 0;
-  std::string v_path;
-  for (size_t i = 0; i < scene.shells.size(); ++i)
-    if (norm(scene.shells[i].initial_velocity) > vmax) {
-      vmax = norm(scene.shells[i].initial_velocity);
-      v_path = "/shells/" + std::to_string(i) + "/initial_velocity";
-    }
-  for (size_t i = 0; i < scene.solids.size(); ++i)
-    if (!scene.solids[i].rigid_body && norm(scene.solids[i].initial_velocity) > vmax) {
-      vmax = norm(scene.solids[i].initial_velocity);
-      v_path = "/solids/" + std::to_string(i) + "/initial_velocity";
-    }
-  if (vmax > 0 && cfl * e.grid_dx / vmax < dt && scene.time.enforce_stability_bound != false) {
-    dt = cfl * e.grid_dx / vmax;
-    dt_path = v_path;
-  }
-  e.dt = dt;
+  std::string dt_path;
+  e.dt = stable_step(scene, shells, e.grid_dx, dt_path);
   const double end = scene.time.end.value_or(1.0), rate = scene.time.frame_rate.value_or(24.0);
   e.frames = std::floor(end * rate + 1e-9) + 1;
   e.frames_path = rate > 1000 ? "/time/frame_rate" : "/time/end";
   // At least one step per frame (sim::Simulation::advance_to); the shatter loop's rigid steps run inside.
-  e.steps = std::max(end / dt, e.frames - 1);
+  e.steps = std::max(end / e.dt, e.frames - 1);
   bool rigid_bodies = false;
   for (const Solid& s : scene.solids) rigid_bodies = rigid_bodies || s.rigid_body.has_value();
   if (rigid_bodies) {
