@@ -52,6 +52,82 @@ int find_root(std::vector<int>& parent, int i) {
   return i;
 }
 
+// Per-thread scratch of node_components.
+struct ComponentScratch {
+  std::vector<int> parent, label;
+  std::vector<uint32_t> sets, particles;
+};
+
+// The components of one flagged node, whose particles are pairs[begin, begin + n): writes each pair's
+// component (numbered by first member) to component[0, n) and returns how many there are. With a memo,
+// keys[0, n) and *hash get the node's particle list and its hash, and a list the memo knows takes the
+// components found for it before.
+int node_components(const std::vector<NodeParticle>& pairs, size_t begin, int n, const Connectivity& connected,
+                    const GroupConnectivity& one_component, const PartitionMemo* memo, uint64_t* keys, uint64_t* hash,
+                    int32_t* component, ComponentScratch& scratch) {
+  const auto count = static_cast<size_t>(n);
+  if (memo) {
+    for (size_t i = 0; i < count; ++i) keys[i] = PartitionMemo::key(pairs[begin + i].set, pairs[begin + i].particle);
+    *hash = PartitionMemo::hash(keys, count);
+    const int known = memo->find(keys, count, *hash, component);
+    if (known >= 0) return known;
+  }
+  if (one_component) {  // component[] of the node's pairs is still 0
+    scratch.sets.resize(count);
+    scratch.particles.resize(count);
+    for (size_t a = 0; a < count; ++a) {
+      scratch.sets[a] = pairs[begin + a].set;
+      scratch.particles[a] = pairs[begin + a].particle;
+    }
+    if (one_component(scratch.sets.data(), scratch.particles.data(), n)) return 1;
+  }
+  std::vector<int>& parent = scratch.parent;
+  parent.resize(count);
+  std::iota(parent.begin(), parent.end(), 0);
+  // Once every particle is in one component no test can change the partition: stop (most flagged nodes
+  // are away from the crack itself, where the first particle sees all the others).
+  int groups = n;
+  for (int a = 0; a < n && groups > 1; ++a)
+    for (int b = a + 1; b < n && groups > 1; ++b) {
+      const int ra = find_root(parent, a), rb = find_root(parent, b);
+      if (ra == rb) continue;
+      const NodeParticle &pa = pairs[begin + static_cast<size_t>(a)], &pb = pairs[begin + static_cast<size_t>(b)];
+      if (connected(pa.set, pa.particle, pb.set, pb.particle)) {
+        parent[static_cast<size_t>(std::max(ra, rb))] = std::min(ra, rb);
+        --groups;
+      }
+    }
+  scratch.label.assign(count, -1);
+  int found = 0;
+  for (int a = 0; a < n; ++a) {
+    const int root = find_root(parent, a);  // roots are the smallest members: first-member order
+    if (scratch.label[static_cast<size_t>(root)] < 0) scratch.label[static_cast<size_t>(root)] = found++;
+    component[a] = scratch.label[static_cast<size_t>(root)];
+  }
+  return found;
+}
+
+// The stencil rows of the particles that use a copy: their 27 nodes, and the copy each entry uses (-1: the
+// node itself).
+void add_stencil_rows(const SparseGrid& grid, const std::vector<ParticleSet>& sets, const std::vector<NodeParticle>& pairs,
+                      const std::vector<int32_t>& pair_copy, PhantomLayout& layout) {
+  layout.particle_row.resize(sets.size());
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    if (pair_copy[i] < 0) continue;
+    const NodeParticle& np = pairs[i];
+    auto& rows = layout.particle_row[np.set];
+    if (rows.empty()) rows.assign(sets[np.set].count, -1);
+    int32_t& row = rows[np.particle];
+    if (row < 0) {
+      row = static_cast<int32_t>(layout.stencil_copy.size() / 27);
+      layout.stencil_copy.insert(layout.stencil_copy.end(), 27, -1);
+      const uint32_t* st = grid.particle_stencil(np.set, np.particle);
+      layout.stencil_node.insert(layout.stencil_node.end(), st, st + 27);
+    }
+    layout.stencil_copy[static_cast<size_t>(row) * 27 + np.stencil] = pair_copy[i];
+  }
+}
+
 }  // namespace
 
 PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<ParticleSet>& sets,
@@ -127,55 +203,12 @@ PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<Particle
   std::vector<int32_t> components(slot_node.size(), 0);
   std::vector<uint64_t> keys(memo ? pairs.size() : 0), hashes(memo ? slot_node.size() : 0);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, slot_node.size(), 8), [&](const tbb::blocked_range<size_t>& r) {
-    std::vector<int> parent, label;
-    std::vector<uint32_t> node_sets, node_particles;
+    ComponentScratch scratch;
     for (size_t slot = r.begin(); slot != r.end(); ++slot) {
       const size_t begin = slot_count[slot];
       const int n = static_cast<int>(slot_count[slot + 1] - begin);
-      if (memo) {
-        for (size_t i = begin; i < begin + static_cast<size_t>(n); ++i) keys[i] = PartitionMemo::key(pairs[i].set, pairs[i].particle);
-        hashes[slot] = PartitionMemo::hash(&keys[begin], static_cast<size_t>(n));
-        const int known = memo->find(&keys[begin], static_cast<size_t>(n), hashes[slot], &component[begin]);
-        if (known >= 0) {
-          components[slot] = known;
-          continue;
-        }
-      }
-      if (one_component) {  // component[] of the node's pairs is still 0
-        node_sets.resize(static_cast<size_t>(n));
-        node_particles.resize(static_cast<size_t>(n));
-        for (int a = 0; a < n; ++a) {
-          node_sets[static_cast<size_t>(a)] = pairs[begin + static_cast<size_t>(a)].set;
-          node_particles[static_cast<size_t>(a)] = pairs[begin + static_cast<size_t>(a)].particle;
-        }
-        if (one_component(node_sets.data(), node_particles.data(), n)) {
-          components[slot] = 1;
-          continue;
-        }
-      }
-      parent.resize(static_cast<size_t>(n));
-      std::iota(parent.begin(), parent.end(), 0);
-      // Once every particle is in one component no test can change the partition: stop (most flagged
-      // nodes are away from the crack itself, where the first particle sees all the others).
-      int groups = n;
-      for (int a = 0; a < n && groups > 1; ++a)
-        for (int b = a + 1; b < n && groups > 1; ++b) {
-          const int ra = find_root(parent, a), rb = find_root(parent, b);
-          if (ra == rb) continue;
-          const NodeParticle &pa = pairs[begin + static_cast<size_t>(a)], &pb = pairs[begin + static_cast<size_t>(b)];
-          if (connected(pa.set, pa.particle, pb.set, pb.particle)) {
-            parent[static_cast<size_t>(std::max(ra, rb))] = std::min(ra, rb);
-            --groups;
-          }
-        }
-      label.assign(static_cast<size_t>(n), -1);
-      int count = 0;
-      for (int a = 0; a < n; ++a) {
-        const int root = find_root(parent, a);  // roots are the smallest members: first-member order
-        if (label[static_cast<size_t>(root)] < 0) label[static_cast<size_t>(root)] = count++;
-        component[begin + static_cast<size_t>(a)] = label[static_cast<size_t>(root)];
-      }
-      components[slot] = count;
+      components[slot] = node_components(pairs, begin, n, connected, one_component, memo, memo ? &keys[begin] : nullptr,
+                                         memo ? &hashes[slot] : nullptr, &component[begin], scratch);
     }
   });
   if (memo) memo->store_nodes(std::move(keys), component, slot_count, components, hashes);
@@ -200,21 +233,7 @@ PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<Particle
   }
 
   // 4. Stencil rows for the particles that use a copy.
-  layout.particle_row.resize(sets.size());
-  for (size_t i = 0; i < pairs.size(); ++i) {
-    if (pair_copy[i] < 0) continue;
-    const NodeParticle& np = pairs[i];
-    auto& rows = layout.particle_row[np.set];
-    if (rows.empty()) rows.assign(sets[np.set].count, -1);
-    int32_t& row = rows[np.particle];
-    if (row < 0) {
-      row = static_cast<int32_t>(layout.stencil_copy.size() / 27);
-      layout.stencil_copy.insert(layout.stencil_copy.end(), 27, -1);
-      const uint32_t* st = grid.particle_stencil(np.set, np.particle);
-      layout.stencil_node.insert(layout.stencil_node.end(), st, st + 27);
-    }
-    layout.stencil_copy[static_cast<size_t>(row) * 27 + np.stencil] = pair_copy[i];
-  }
+  add_stencil_rows(grid, sets, pairs, pair_copy, layout);
   if (memo) memo->store_inputs(grid, std::move(blocks), memo_near);
   return layout;
 }
