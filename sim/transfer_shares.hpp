@@ -22,6 +22,7 @@
 //    affine velocity dropped). While material is tearing, the FLIP share and even APIC's affine velocity
 //    let fully damaged flaps and opening tips draw the render surface out, which PIC's averaging does
 //    not; once the damage has healed the pieces move as sheets again (docs/shell-model.md, "Transfer").
+//    "rpic_while_damaged" keeps the rotational part of the affine velocity in that spell instead (opt-in),
 //    "adaptive_then_pic" / "adaptive_then_apic" turn a shell for good at its first damage or crack,
 //    "adaptive" keeps the adaptive shares anyway, "pic" runs such shells as PIC throughout.
 // The shares differ between particles, so the grid's g2p restores exact linear momentum (mpm/sparse_grid.cpp).
