@@ -1,6 +1,7 @@
 #include "mpm/sparse_grid.hpp"
 
-#include <Eigen/Dense>
+#include "core/rigid_rotation.hpp"
+
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
@@ -665,11 +666,7 @@ void SparseGrid::transfer_to_particles(const std::vector<ParticleSet>& sets, dou
   const Vec3 mean = total.residual / total.weight;
   const Vec3 centre = total.first / total.weight;
   const Mat3 spread = total.second - total.weight * centre * centre.transpose();
-  const Mat3 inertia = spread.trace() * Mat3::Identity() - spread;
-  Vec3 omega = Vec3::Zero();
-  const double size = inertia.trace();
-  if (size > 0 && inertia.determinant() > 1e-12 * size * size * size)
-    omega = -inertia.ldlt().solve(total.angular + total.first.cross(mean));
+  const Vec3 omega = core::rotation_for(spread, -(total.angular + total.first.cross(mean)));
   tbb::parallel_for(tbb::blocked_range<size_t>(0, block_coords_.size(), 2), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t b = r.begin(); b != r.end(); ++b)
       for (uint32_t e = bin_offsets_[b]; e < bin_offsets_[b + 1]; ++e) {

@@ -1,6 +1,7 @@
 #include "shell/shell_patch.hpp"
 
-#include <Eigen/Dense>
+#include "core/rigid_rotation.hpp"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -245,9 +246,7 @@ Vec3 moment_of_momentum(const ShearParticles& s) {
 }
 
 // Adds omega x (x_p - x_c) to every particle's velocity, x_c their centre of mass, with omega chosen so
-// that sum x_p x m_p v_p changes by `change`: (inertia about x_c) omega = change. The rotation about the
-// centre of mass adds no linear momentum. Particles on a line (one row of cells) have no inertia about it;
-// then nothing is added.
+// that sum x_p x m_p v_p changes by `change` (core::rotation_for; nothing for one row of cells).
 void add_rotation(ShearParticles& s, const Vec3& change) {
   double mass = 0;
   Vec3 first = Vec3::Zero();
@@ -259,10 +258,7 @@ void add_rotation(ShearParticles& s, const Vec3& change) {
   const Vec3 centre = first / mass;
   Mat3 spread = Mat3::Zero();
   for (size_t c = 0; c < s.x.size(); ++c) spread += s.mass[c] * (s.x[c] - centre) * (s.x[c] - centre).transpose();
-  const Mat3 inertia = spread.trace() * Mat3::Identity() - spread;
-  const double size = inertia.trace();
-  if (size <= 0 || inertia.determinant() <= 1e-12 * size * size * size) return;
-  const Vec3 omega = inertia.ldlt().solve(change);
+  const Vec3 omega = core::rotation_for(spread, change);
   for (size_t c = 0; c < s.x.size(); ++c) s.v[c] += omega.cross(s.x[c] - centre);
 }
 
