@@ -175,10 +175,13 @@ void BrittleSolver::stage_p2g() {
   for (const GhostParticle& g : ghosts_)
     if (active_fraction(g, time_, dt_) > 0) ghost_x_.push_back(g.rest + (solid_.particles.x[g.anchor] - solid_.rest[g.anchor]));
   grid_.rebuild(solid_.particles.x.data(), solid_.size(), ghost_x_, sides_.active(), options_.memory_limit);
-  if (phase_field_ && steps_ % options_.phase_field.interval == 0) {
-    t.pause();
-    stage_phase_field();
-    t.resume();
+  if (phase_field_) {
+    pf_elapsed_ += dt_;  // the solve advances c over every step since the last one
+    if (steps_ % options_.phase_field.interval == 0) {
+      t.pause();
+      stage_phase_field();
+      t.resume();
+    }
   }
   if (sides_.active()) sides_.classify(grid_, solid_.particles.x.data());
   grid_.transfer_to_grid(view(), dt_);
@@ -192,7 +195,11 @@ void BrittleSolver::stage_phase_field() {
     for (size_t p = r.begin(); p != r.end(); ++p) pf_volume_[p] = q.volume[p] * q.F[p].determinant();
   });
   const PhaseFieldParticles view{n, q.x.data(), pf_volume_.data(), pf_history_.data(), pf_c_.data()};
-  const PhaseFieldStats st = phase_field_->solve(grid_, view, dt_);
+  // Backward Euler over the time since the previous solve: with interval k that is k steps, so c relaxes
+  // at the rate M_c whatever k is (with dt_ alone it relaxed k times too slowly, and the pulled bar did
+  // not break at k = 100).
+  const PhaseFieldStats st = phase_field_->solve(grid_, view, pf_elapsed_ > 0 ? pf_elapsed_ : dt_);
+  pf_elapsed_ = 0;
   PhaseFieldTotals& tot = pf_totals_;
   ++tot.solves;
   tot.iterations += st.iterations;

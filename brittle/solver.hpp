@@ -149,6 +149,7 @@ class BrittleSolver {
   // Phase-field model: the grid system, c_p, Psi^H_p and the current volumes V^0 J.
   std::unique_ptr<PhaseFieldSystem> phase_field_;
   std::vector<double> pf_c_, pf_history_, pf_volume_;
+  double pf_elapsed_ = 0;  // simulated time since the last phase-field solve [s]
   PhaseFieldTotals pf_totals_;
   // NACC: the branch each particle took in the last damage stage.
   std::vector<uint8_t> nacc_branch_;

@@ -131,4 +131,108 @@ scene::Scene drape(const Discretisation& d, bool two_patches) {
   return s;
 }
 
+namespace {
+
+scene::SolidRegion box_region(scene::Vec3 center, scene::Vec3 half_extents) {
+  scene::SolidRegion r;
+  r.shape = "box";
+  r.center = center;
+  r.half_extents = half_extents;
+  return r;
+}
+
+scene::Collider box_collider(const std::string& name, scene::Vec3 center, scene::Vec3 half_extents,
+                             const std::string& boundary, scene::Vec3 velocity) {
+  scene::Collider c;
+  c.name = name;
+  c.shape = "box";
+  c.center = center;
+  c.half_extents = half_extents;
+  c.boundary = boundary;
+  if (velocity != scene::Vec3{0, 0, 0}) {
+    scene::Motion m;
+    m.linear_velocity = velocity;
+    c.motion = m;
+  }
+  return c;
+}
+
+// A regularly sampled brittle box of the bench material (E 10 MPa, nu 0.2, 1000 kg/m^3, G 8 J/m^2) with a
+// box-shaped notch, broken by `damage_model` on a 5 mm grid, two velocity fields, run to `end`.
+scene::Solid notched_box(const std::string& name, scene::Vec3 half_extents, scene::SolidRegion notch,
+                         const std::string& damage_model, double failure_stress, double end) {
+  scene::Solid b;
+  b.name = name;
+  b.shape = "box";
+  b.center = scene::Vec3{0, half_extents[1], half_extents[2]};
+  b.half_extents = half_extents;
+  b.spacing = 0.0025;
+  b.sampling = "regular";
+  b.remove.push_back(notch);
+  scene::SolidMaterial m;
+  m.youngs_modulus = 1e7;
+  m.poisson_ratio = 0.2;
+  m.density = 1000;
+  m.damage_model = damage_model;
+  if (damage_model == "nacc") {
+    scene::NaccMaterial n;
+    n.alpha0 = -0.02;
+    n.beta = 0.5;
+    n.xi = 1.0;
+    n.friction = 1.0;
+    m.nacc = n;
+  } else {
+    m.fracture_energy = 8;
+  }
+  if (damage_model == "phase_field") {
+    scene::PhaseFieldMaterial pf;
+    pf.mobility = 2000;
+    m.phase_field = pf;
+  } else if (damage_model == "rankine") {
+    m.failure_stress = failure_stress;
+  }
+  b.material = m;
+  scene::SolidFracture f;
+  f.grid_spacing = 0.005;
+  f.crack_grid_spacing = 0.005;
+  f.two_fields = true;
+  f.crack_interval = 25;
+  f.cutter = "exact";
+  scene::FractureStop stop;
+  stop.max_time = end;
+  f.stop = stop;
+  b.fracture = f;
+  return b;
+}
+
+scene::Scene brittle_scene(const std::string& name, double end) {
+  scene::Scene s = named(name, {0, 0, 0});
+  s.time.end = end;
+  s.time.frame_rate = 1000;
+  return s;
+}
+
+}  // namespace
+
+scene::Scene pulled_bar(const std::string& damage_model) {
+  scene::Scene s = brittle_scene("bench-pulled-bar", 0.01);
+  s.solids.push_back(notched_box("bar", {0.06, 0.01, 0.01}, box_region({0, 0.01, 0.004}, {0.002, 0.02, 0.004}),
+                                 damage_model, 5e4, 0.01));
+  s.colliders.push_back(box_collider("grip_left", {-0.055, 0.01, 0.01}, {0.006, 0.02, 0.02}, "sticky", {-0.1, 0, 0}));
+  s.colliders.push_back(box_collider("grip_right", {0.055, 0.01, 0.01}, {0.006, 0.02, 0.02}, "sticky", {0.1, 0, 0}));
+  return s;
+}
+
+scene::Scene notched_beam(const std::string& damage_model) {
+  scene::Scene s = brittle_scene("bench-notched-beam", 0.012);
+  s.solids.push_back(notched_box("beam", {0.1, 0.01, 0.02}, box_region({0, 0.01, 0.006}, {0.003, 0.02, 0.006}),
+                                 damage_model, 1e5, 0.012));
+  if (damage_model == "rankine") s.solids[0].material->damage_rule = "healing";
+  s.solids[0].fracture->stop->damaged_fraction = 0.2;
+  s.colliders.push_back(box_collider("support_left", {-0.09, 0.01, -0.005}, {0.005, 0.02, 0.005}, "slip", {0, 0, 0}));
+  s.colliders.push_back(box_collider("support_right", {0.09, 0.01, -0.005}, {0.005, 0.02, 0.005}, "slip", {0, 0, 0}));
+  s.colliders.push_back(box_collider("load", {0, 0.01, 0.045}, {0.005, 0.02, 0.005}, "slip", {0, 0, -0.3}));
+  return s;
+}
+
 }  // namespace shellfrac::tools::bench_scenes

@@ -24,4 +24,14 @@ scene::Scene mode_one_tear(const Discretisation& d);
 // at x = 0 (N/2 x N cells left, N x 2N right, nested knots).
 scene::Scene drape(const Discretisation& d, bool two_patches);
 
+// Brittle solids (docs/brittle.md), as in scenes/brittle/, by `damage_model`: "rankine" (thesis),
+// "phase_field" or "nacc" (CD-MPM; their default parameters of the shipped scenes).
+// The pulled notched bar: 12 x 2 x 2 cm (E 10 MPa, nu 0.2, 1000 kg/m^3), a notch 4 mm wide and 8 mm deep,
+// particles at 2.5 mm on a 5 mm grid (3,024), pulled apart by two sticky grips at 0.1 m/s each for 10 ms.
+// It breaks into two halves at the notch under all three models.
+scene::Scene pulled_bar(const std::string& damage_model);
+// The notched beam in three-point bending: 20 x 2 x 4 cm, notch 6 x 12 mm, on two slip supports, pressed
+// at its centre by a box at 0.3 m/s for 12 ms. Rankine breaks it at the notch.
+scene::Scene notched_beam(const std::string& damage_model);
+
 }  // namespace shellfrac::tools::bench_scenes

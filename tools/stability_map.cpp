@@ -37,6 +37,7 @@ const char* outcome_name(Outcome o) {
     case Outcome::area_loss: return "area loss";
     case Outcome::area_gain: return "area gain";
     case Outcome::glued: return "glued fragment";
+    case Outcome::shattered: return "shattered";
     case Outcome::crease: return "crease";
   }
   return "?";
@@ -111,6 +112,22 @@ void trip(StabilityResult& r, Outcome o, const std::string& quantity, double mea
   r.threshold = threshold;
 }
 
+// Brittle solids: the fragments of their fracture events, slivers apart, against the expected count.
+void classify_solids(const sim::Simulation& sim, const StabilityCase& c, StabilityResult& r) {
+  r.fragments = r.slivers = 0;
+  for (size_t b = 0; b < sim.brittle().size(); ++b) {
+    const sim::BrittleSystem::Body& body = sim.brittle().body(b);
+    if (!body.event) continue;
+    // A sliver as summary.json counts it (output/brittle_output.cpp): below the solid's sliver volume.
+    for (const brittle::Fragment& f : body.event->fragments.fragments)
+      (f.properties.volume < body.spec->sliver_volume ? r.slivers : r.fragments) += 1;
+  }
+  if (r.fragments < c.expected_fragments)
+    trip(r, Outcome::glued, "fragments (slivers apart)", r.fragments, c.expected_fragments);
+  else if (r.fragments > c.expected_fragments)
+    trip(r, Outcome::shattered, "fragments (slivers apart)", r.fragments, c.expected_fragments);
+}
+
 }  // namespace
 
 StabilityResult run_stability_case(const StabilityCase& c, double baseline_peak_kinetic, const StabilityThresholds& t,
@@ -140,15 +157,20 @@ StabilityResult run_stability_case(const StabilityCase& c, double baseline_peak_
   const double dx = sim->dx();
   const double initial_until = t.initial_fraction * c.end;
   double initial_peak = 0, next_frame = 1.0 / 24.0;
+  const double frame = 1.0 / variant.time.frame_rate.value_or(24.0);
+  const bool solids = !sim->brittle().empty();
   try {
     while (sim->time() < c.end - 1e-12 * std::max(1.0, c.end)) {
       check_stop(limits, "bench stability (" + c.scene + " / " + c.variant + " at t = " + std::to_string(sim->time()) + " s)");
-      const double dt = std::min(sim->stable_dt(), c.end - sim->time());
+      // Brittle solids step on their own grids and steps inside one step of the simulation: step it by
+      // frames so that stop requests are heard.
+      const double dt = std::min({sim->stable_dt(), c.end - sim->time(), frame});
       sim->step(dt);
       r.dt = std::max(r.dt, dt);
       const double ke = sim->kinetic_energy();
       if (!std::isfinite(ke))
         throw core::NumericalError("non-finite kinetic energy at step " + std::to_string(sim->steps()));
+      if (solids) continue;  // their energy and penetration are the brittle solver's (it throws on inversion)
       r.peak_kinetic = std::max(r.peak_kinetic, ke);
       if (sim->time() <= initial_until) initial_peak = std::max(initial_peak, ke);
       // During the first part of the run only the default variant's peak is a reference; afterwards the
@@ -165,13 +187,31 @@ StabilityResult run_stability_case(const StabilityCase& c, double baseline_peak_
         r.penetration_cells = std::isnan(r.penetration_cells) ? pen : std::max(r.penetration_cells, pen);
       }
     }
+    if (solids) sim->finish_brittle();  // the fracture events of solids still running at the end
   } catch (const core::NumericalError& e) {
     trip(r, Outcome::nan, "step of failure", static_cast<double>(sim->steps()), 0);
     r.detail = e.what();
   }
   r.steps = sim->steps();
   r.simulated_seconds = sim->time();
+  if (solids) {
+    // Steps, the largest step and the bound of the brittle solvers (dx over the P-wave speed: their
+    // cfl 1 at rest), not of the frame loop above.
+    r.steps = 0;
+    r.dt = 0;
+    r.bound = std::numeric_limits<double>::infinity();
+    for (size_t b = 0; b < sim->brittle().size(); ++b) {
+      const sim::BrittleSystem::Body& body = sim->brittle().body(b);
+      r.steps += static_cast<long>(body.solver->steps());
+      r.dt = std::max(r.dt, body.solver->dt());
+      r.bound = std::min(r.bound, body.solver->options().dx / body.solid->material.wave_speed());
+    }
+  }
   if (r.outcome != Outcome::completed) return finish();
+  if (solids) {
+    classify_solids(*sim, c, r);
+    return finish();
+  }
 
   const auto meshes = output::render_meshes(*sim);
   const double pen = output::collider_penetration(*sim, meshes) / dx;
@@ -182,7 +222,7 @@ StabilityResult run_stability_case(const StabilityCase& c, double baseline_peak_
     area += render_mesh::surface_area(m);
     r.fragments += render_mesh::count_components(m);
   }
-  r.area_ratio = area / c.reference_area;
+  r.area_ratio = c.reference_area > 0 ? area / c.reference_area : kNaN;
   if (c.expected_fragments > 1) r.separation_cells = fragment_separation(meshes[0]) / dx;
   if (c.seam) r.seam_angle_degrees = seam_angle_degrees(*sim);
 
@@ -194,12 +234,83 @@ StabilityResult run_stability_case(const StabilityCase& c, double baseline_peak_
     trip(r, Outcome::area_gain, "area / reference area", r.area_ratio, 1 + t.area_tolerance);
   else if (c.expected_fragments > 1 && r.fragments < c.expected_fragments)
     trip(r, Outcome::glued, "render-mesh fragments", r.fragments, c.expected_fragments);
+  else if (c.expected_fragments > 1 && r.fragments > c.expected_fragments)
+    trip(r, Outcome::shattered, "render-mesh fragments", r.fragments, c.expected_fragments);
   else if (c.expected_fragments > 1 && r.separation_cells < t.separation_cells)
     trip(r, Outcome::glued, "fragment separation [cells]", r.separation_cells, t.separation_cells);
   else if (c.seam && r.seam_angle_degrees > t.crease_degrees)
     trip(r, Outcome::crease, "normal jump across the seam [deg]", r.seam_angle_degrees, t.crease_degrees);
   return finish();
 }
+
+namespace {
+
+// Brittle solids: the thesis's local Rankine damage (the default) against CD-MPM's phase field and NACC,
+// each also where it is expected to fail (docs/benchmarks.md, "Stability map"). Tiny: the bar's default
+// and its refused step only.
+void add_solid_cases(bool full, std::vector<StabilityCase>& cases) {
+  auto solid_case = [](const std::string& scene, const std::string& variant, scene::Scene definition) {
+    StabilityCase c;
+    c.scene = scene;
+    c.variant = variant;
+    c.end = *definition.time.end;
+    c.definition = std::move(definition);
+    c.expected_fragments = 2;
+    c.reference_area = 0;  // no render mesh: the fragments decide
+    return c;
+  };
+  auto material = [](StabilityCase& c) -> scene::SolidMaterial& { return *c.definition.solids[0].material; };
+  const StabilityCase bar = solid_case("bar", "default", bench_scenes::pulled_bar("rankine"));
+  cases.push_back(bar);
+  {
+    // The brittle step is cfl dx / (P-wave speed + fastest particle), cfl at most 1: the bound itself.
+    StabilityCase c = bar;
+    c.variant = "dt 2x bound (check on)";
+    c.dt_factor = 2.0;
+    c.definition.solids[0].fracture->cfl = 2.0;
+    cases.push_back(c);
+  }
+  if (!full) return;
+  {
+    StabilityCase c = bar;
+    c.variant = "dt 1x bound";
+    c.dt_factor = 1.0;
+    c.definition.solids[0].fracture->cfl = 1.0;
+    cases.push_back(c);
+  }
+  // The phase field at its default l0 (half the 5 mm grid spacing), far below and above it, and solved
+  // only every 100 steps; NACC at its default cohesion beta 0.5, without cohesion, and with a lot of it.
+  const StabilityCase pf = solid_case("bar", "phase field", bench_scenes::pulled_bar("phase_field"));
+  cases.push_back(pf);
+  for (const auto& [name, l0] : {std::pair{"phase field l0 0.02 dx", 1e-4}, std::pair{"phase field l0 4 dx", 0.02}}) {
+    StabilityCase c = pf;
+    c.variant = name;
+    material(c).phase_field->length_scale = l0;
+    cases.push_back(c);
+  }
+  {
+    StabilityCase c = pf;
+    c.variant = "phase field every 100 steps";
+    scene::PhaseFieldSolve solve;
+    solve.interval = 100;
+    c.definition.solids[0].fracture->phase_field = solve;
+    cases.push_back(c);
+  }
+  const StabilityCase nacc = solid_case("bar", "NACC", bench_scenes::pulled_bar("nacc"));
+  cases.push_back(nacc);
+  for (const auto& [name, beta] : {std::pair{"NACC beta 0", 0.0}, std::pair{"NACC beta 2", 2.0}}) {
+    StabilityCase c = nacc;
+    c.variant = name;
+    material(c).nacc->beta = beta;
+    cases.push_back(c);
+  }
+  // Three-point bending: the phase field's split also degrades shear under the loading box.
+  cases.push_back(solid_case("beam", "default", bench_scenes::notched_beam("rankine")));
+  cases.push_back(solid_case("beam", "phase field", bench_scenes::notched_beam("phase_field")));
+  cases.push_back(solid_case("beam", "NACC", bench_scenes::notched_beam("nacc")));
+}
+
+}  // namespace
 
 std::vector<StabilityCase> stability_cases(bool full, const RunLimits& limits) {
   std::vector<StabilityCase> cases;
@@ -306,6 +417,7 @@ std::vector<StabilityCase> stability_cases(bool full, const RunLimits& limits) {
   }
   add_transfer_variants(drape, false);
   add_dt_variants(drape);
+  add_solid_cases(full, cases);
   return cases;
 }
 
@@ -332,7 +444,7 @@ std::vector<StabilityResult> run_stability_map(const StabilityConfig& config, st
   progress.finish(std::to_string(results.size()) + " runs");
 
   charts::CsvTable csv{{"scene", "variant", "outcome", "tripped_by", "measured", "threshold", "peak_kinetic",
-                        "reference_kinetic", "penetration_cells", "area_ratio", "fragments", "separation_cells",
+                        "reference_kinetic", "penetration_cells", "area_ratio", "fragments", "slivers", "separation_cells",
                         "seam_angle_degrees", "steps", "dt", "bound", "dt_over_bound", "simulated_seconds",
                         "wall_seconds", "detail"},
                        {}};
@@ -340,6 +452,7 @@ std::vector<StabilityResult> run_stability_map(const StabilityConfig& config, st
     csv.add({r.scene, r.variant, outcome_name(r.outcome), r.tripped_by, charts::number(r.measured),
              charts::number(r.threshold), charts::number(r.peak_kinetic), charts::number(r.reference_kinetic),
              charts::number(r.penetration_cells), charts::number(r.area_ratio), std::to_string(r.fragments),
+             std::to_string(r.slivers),
              charts::number(r.separation_cells), charts::number(r.seam_angle_degrees), std::to_string(r.steps),
              charts::number(r.dt), charts::number(r.bound), charts::number(r.bound > 0 ? r.dt / r.bound : kNaN),
              charts::number(r.simulated_seconds), charts::number(r.wall_seconds), r.detail});
@@ -354,6 +467,8 @@ std::vector<StabilityResult> run_stability_map(const StabilityConfig& config, st
     if (r.outcome != Outcome::completed)
       table << r.tripped_by << " = " << charts::number(r.measured) << " (threshold " << charts::number(r.threshold)
             << ")";
+    else if (std::isnan(r.area_ratio))  // a solid
+      table << r.fragments << " fragments, " << r.slivers << " slivers";
     else
       table << "area " << charts::number(r.area_ratio) << ", penetration " << charts::number(r.penetration_cells)
             << " cells";
@@ -380,11 +495,17 @@ std::vector<StabilityResult> run_stability_map(const StabilityConfig& config, st
         case Outcome::area_loss:
         case Outcome::area_gain: colour = 0xffca28; break;
         case Outcome::glued: colour = 0xa1887f; break;
+        case Outcome::shattered: colour = 0x26c6da; break;
         case Outcome::crease: colour = 0xf48fb1; break;
       }
       char value[96];
       switch (r.outcome) {
-        case Outcome::completed: std::snprintf(value, sizeof value, " (area %.3f)", r.area_ratio); break;
+        case Outcome::completed:
+          if (std::isnan(r.area_ratio))  // a solid: no render mesh
+            std::snprintf(value, sizeof value, " (%d pieces)", r.fragments);
+          else
+            std::snprintf(value, sizeof value, " (area %.3f)", r.area_ratio);
+          break;
         case Outcome::refused: std::snprintf(value, sizeof value, ": dt %gx bound", r.measured); break;
         case Outcome::nan: std::snprintf(value, sizeof value, " at step %ld", r.steps); break;
         case Outcome::energy_blowup: std::snprintf(value, sizeof value, ": KE %.3gx peak", r.measured); break;
@@ -392,10 +513,13 @@ std::vector<StabilityResult> run_stability_map(const StabilityConfig& config, st
         case Outcome::area_loss:
         case Outcome::area_gain: std::snprintf(value, sizeof value, ": area %.3f", r.measured); break;
         case Outcome::glued:
-          if (r.tripped_by == "render-mesh fragments")
+          if (r.tripped_by.find("fragments") != std::string::npos)
             std::snprintf(value, sizeof value, ": %d piece(s), %g expected", r.fragments, r.threshold);
           else
             std::snprintf(value, sizeof value, ": gap %.2g cells", r.measured);
+          break;
+        case Outcome::shattered:
+          std::snprintf(value, sizeof value, ": %d pieces, %g expected", r.fragments, r.threshold);
           break;
         case Outcome::crease: std::snprintf(value, sizeof value, ": %.3g deg", r.measured); break;
       }

@@ -21,7 +21,8 @@ enum class Outcome {
   penetration,    // a render vertex deeper than half a grid cell inside a collider
   area_loss,      // render-mesh area below 95% of the reference area
   area_gain,      // render-mesh area above 105% (over-stretched, e.g. by monotone damage)
-  glued,          // fragments expected to separate did not
+  glued,          // fragments expected to separate did not (or a solid did not break)
+  shattered,      // more pieces than expected (a solid: fragments that are not slivers)
   crease,         // coupled patches: the surface normals jump across the seam by more than 10 degrees
 };
 const char* outcome_name(Outcome o);
@@ -38,12 +39,14 @@ struct StabilityThresholds {
 
 // One variant of a scene.
 struct StabilityCase {
-  std::string scene;    // "tear" or "drape"
+  std::string scene;    // "tear", "drape" (shells), "bar" or "beam" (brittle solids)
   std::string variant;  // row name, e.g. "stress 2d_f"
   scene::Scene definition;  // the whole scene
   double end = 1;       // simulated seconds
-  int expected_fragments = 1;  // render-mesh components a correct run ends with (tear: 2)
-  double reference_area = 1;   // area the render mesh should keep [m^2]
+  // Pieces a correct run ends with: render-mesh components of the shells (tear: 2), or the fragments
+  // (slivers not counted) of the brittle solids' fracture events (bar, beam: 2).
+  int expected_fragments = 1;
+  double reference_area = 1;   // area the render mesh should keep [m^2]; 0: no area check (solids)
   bool seam = false;           // measure the crease across patches 0 (u = 1) and 1 (u = 0)
   double dt_factor = 0;        // dt as a multiple of the elastic-wave bound (0: the scene's own step)
 };
@@ -57,7 +60,7 @@ struct StabilityResult {
   // Every measurement made (NaN when the run stopped before it).
   double peak_kinetic = 0, reference_kinetic = 0, penetration_cells = 0, area_ratio = 0, separation_cells = 0,
          seam_angle_degrees = 0;
-  int fragments = 0;
+  int fragments = 0, slivers = 0;
   long steps = 0;
   double dt = 0, bound = 0, simulated_seconds = 0, wall_seconds = 0;
 };

@@ -236,11 +236,43 @@ TEST(BenchTools, TinyStabilityMapClassifiesAnUnstableStepAsAFailure) {
       EXPECT_NEAR(std::stod(r.at("dt_over_bound")), std::min(c.dt_factor, basis_ratio), 1e-9) << c.scene << " " << c.variant;
     }
   }
+  // The pulled notched bar under Rankine damage breaks into its two halves; cfl 2 is refused.
+  EXPECT_EQ(outcome["bar"]["default"], "completed");
+  EXPECT_EQ(outcome["bar"]["dt 2x bound (check on)"], "refused");
   EXPECT_NE(table.str().find("refused"), std::string::npos);
   if (config.charts) {
     EXPECT_TRUE(is_png(config.out_dir / "stability-map.png"));
   }
   fs::remove_all(config.out_dir);
+}
+
+// The full map's solid rows: each method completes on the bar at its defaults and fails where it is taken
+// out of its range. The counts are those of the fracture events (slivers apart), the same as summary.json.
+TEST(BenchTools, SolidRowsShowEachDamageModelFailing) {
+  std::map<std::string, StabilityCase> cases;
+  for (const StabilityCase& c : stability_cases(true))
+    if (c.scene == "bar" || c.scene == "beam") cases[c.scene + " / " + c.variant] = c;
+  auto run = [&](const std::string& name) {
+    EXPECT_TRUE(cases.count(name)) << name;
+    return run_stability_case(cases.at(name), 0);
+  };
+  for (const char* name : {"bar / default", "bar / phase field", "bar / NACC", "beam / default"}) {
+    const StabilityResult r = run(name);
+    EXPECT_EQ(r.outcome, Outcome::completed) << name << ": " << r.tripped_by << " " << r.detail;
+    EXPECT_EQ(r.fragments, 2) << name;
+  }
+  // NACC without cohesion (beta 0) yields in tension at the grips' edges first: the two ends come off
+  // besides the crack, three pieces.
+  const StabilityResult loose = run("bar / NACC beta 0");
+  EXPECT_EQ(loose.outcome, Outcome::shattered);
+  EXPECT_EQ(loose.fragments, 3);
+  // The phase field's strength grows as l0 shrinks (sigma_c ~ sqrt(G E / l0)); at l0 = 0.02 dx the bar
+  // does not break in the 10 ms of pulling.
+  const StabilityResult thin = run("bar / phase field l0 0.02 dx");
+  EXPECT_EQ(thin.outcome, Outcome::glued);
+  EXPECT_EQ(thin.fragments, 1);
+  // In three-point bending the phase field's split degrades shear under the load: no crack at the notch.
+  EXPECT_EQ(run("beam / phase field").outcome, Outcome::glued);
 }
 
 // Runs the shellfrac binary; returns the exit code and the combined output.
