@@ -15,6 +15,7 @@
 #include "scene/scene_error.hpp"
 #include "tools/bench_scenes.hpp"
 #include "tools/charts.hpp"
+#include "tools/crack_speed.hpp"
 #include "tools/run_limits.hpp"
 #include "output/progress.hpp"
 #include "scene/build.hpp"
@@ -293,6 +294,18 @@ std::vector<SweepRow> run_sweep(const SweepConfig& config, std::ostream& log) {
     }
   }
   progress.finish(std::to_string(rows.size()) + " runs");
+
+  // Resolution dependence of the brittle solids' local and non-local damage (tools/crack_speed.hpp): the
+  // notched bar and beam at three spacings (full), the coarse bar for 4 ms (tiny).
+  std::vector<CrackSpeedRun> crack_speed;
+  for (const std::string specimen : {"bar", "beam"}) {
+    if (!config.full && specimen == "beam") continue;
+    CrackSpeedOptions o;
+    o.specimen = specimen;
+    if (!config.full) o.spacings = {0.005}, o.end = 0.004;
+    for (CrackSpeedRun& r : run_crack_speed_study(o, log, config.limits)) crack_speed.push_back(std::move(r));
+  }
+  write_crack_speed(config.out_dir, crack_speed, config.charts);
 
   // Pareto flags per benchmark.
   for (const auto& b : benchmarks) {

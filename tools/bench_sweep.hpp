@@ -73,9 +73,11 @@ std::vector<AccuracyBenchmark> accuracy_benchmarks(bool full, const RunLimits& l
 // The discretisations run for a benchmark, with their series names.
 std::vector<std::pair<std::string, Discretisation>> sweep_plan(const AccuracyBenchmark& b);
 
-// Runs every benchmark over its plan and the tearing stage breakdown, and writes into out_dir:
-// sweep.csv, convergence.csv, stages.csv and (charts on) <benchmark>-error-vs-time.png,
-// <benchmark>-error-vs-resolution.png and tear-stage-breakdown.png. Progress lines go to `log`.
+// Runs every benchmark over its plan, the tearing stage breakdown and the crack-speed study of the brittle
+// solids (tools/crack_speed.hpp), and writes into out_dir: sweep.csv, convergence.csv, stages.csv,
+// crack_speed.csv, crack_speed_summary.csv and (charts on) <benchmark>-error-vs-time.png,
+// <benchmark>-error-vs-resolution.png, tear-stage-breakdown.png and crack-tip-<specimen>.png. Progress
+// lines go to `log`.
 // Returns the rows (with their Pareto flags set per benchmark).
 std::vector<SweepRow> run_sweep(const SweepConfig& config, std::ostream& log);
 
