@@ -2,6 +2,8 @@
 // The solver inputs of a scene: what scene::build() derives from a validated Scene (scene/scene.hpp). Patches
 // are NURBS surfaces, pins are control-point lists, interfaces carry their coupling operators, colliders
 // and solids their shapes, and every default is filled in. The simulation (sim/) reads only this.
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <string>
@@ -310,6 +312,17 @@ struct CrackSettings {
   // patch's control-point mass is added to the points whose cut bases would shrink the step; 0 adds none.
   double mass_scaling = 0.0;
 };
+
+// Frames of a run: frame 0 at t = 0, then one every 1 / rate, and a last one at `end` when `end` is not
+// on a frame boundary (so the run always reaches `end`). The number of frames after frame 0, and the
+// time of frame f.
+inline int frames_after_start(double end, double rate) {
+  const double whole = std::floor(end * rate + 1e-9);
+  return static_cast<int>(whole) + (end - whole / rate > 1e-9 * std::max(1.0, end) ? 1 : 0);
+}
+inline double frame_time(int f, double end, double rate) {
+  return f <= std::floor(end * rate + 1e-9) ? f / rate : end;
+}
 
 struct TimeSettings {
   double end = 1.0;                // simulated seconds (the latest end with until_rest)

@@ -67,6 +67,29 @@ TEST(RunControl, OnStepSeesEveryStepOfAdvanceTo) {
   fs::remove_all(options.out_dir);
 }
 
+// An end between two frames gets a last, shorter frame at the end: the run reaches `end` (it stopped at
+// the last whole frame, and a scene ending before its first frame took no step at all).
+TEST(RunControl, EndBetweenFramesGetsALastFrameAtTheEnd) {
+  for (const double end : {0.13, 0.02}) {  // frames every 0.05 s
+    const scene::Model model = cloth(end);
+    RunOptions options;
+    options.out_dir = scratch("tail");
+    options.threads = 1;
+    std::ostringstream log;
+    const Summary s = run_scene(model, options, log);
+    EXPECT_EQ(s.status, "completed");
+    EXPECT_DOUBLE_EQ(s.simulated_seconds, end);
+    EXPECT_EQ(s.frames.size(), end > 0.1 ? 4u : 2u) << end;  // 0, 0.05, 0.1, 0.13 / 0, 0.02
+    EXPECT_GT(s.steps, 0);
+    sim::Simulation reference(model);
+    for (double t : {0.05, 0.1, 0.13})
+      if (t <= end + 1e-12) reference.advance_to(t);
+    reference.advance_to(end);
+    EXPECT_EQ(reference.steps(), s.steps);
+    fs::remove_all(options.out_dir);
+  }
+}
+
 TEST(RunControl, ShouldStopEndsTheRunBetweenSteps) {
   const scene::Model model = cloth(1.0);
   RunOptions options;

@@ -54,7 +54,7 @@ std::string sheet_scene(int left_cells, int right_cells, bool corrected, bool pi
 }
 
 struct SeamRun {
-  double max_ratio = 0;        // seam stress ratio (sim/seam_metrics.hpp), largest over the frames
+  double max_ratio = 0;        // seam stress ratio (output/seam_metrics.hpp), largest over the frames
   double max_row_offset = 0;   // coupled rows vs their Eq. 4.29/4.34 targets [m], largest over the frames
   double max_row_velocity_offset = 0;  // coupled rows' velocities vs the leader's mapped by the same operators
   Eigen::Vector3d momentum = Eigen::Vector3d::Zero();  // linear momentum at the end
