@@ -75,7 +75,7 @@ class FrameWriter {
     SeamCrackPositions cracks;
     for (size_t i = 0; i < model_.interfaces.size(); ++i) cracks.push_back(sim.seam_cracks(i));
     seams_.record(frame, sim.time(), sim.world(), cracks);
-    const FrameMeshes meshes = render_frame(sim);
+    const FrameMeshes meshes = renderer_.render(sim);
     record_quality(measure_mesh_quality(sim, meshes), frame);
     penetration_ = std::max(penetration_, collider_penetration(sim, meshes.meshes));
     const render_mesh::ExportOptions options{model_.output.triangulate, model_.output.double_precision};
@@ -92,6 +92,7 @@ class FrameWriter {
 
  private:
   fs::path frames_dir() const { return out_dir_ / "frames"; }
+  FrameRenderer renderer_;  // keeps cracked patches' vertex bases between frames
   void record_quality(const MeshQuality& q, int frame) {
     mesh_.pieces = q.pieces;
     mesh_.sliver_count = q.slivers;

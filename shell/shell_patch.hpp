@@ -228,6 +228,23 @@ class ShellPatch {
     BasisLevel level = BasisLevel::Nurbs;
   };
   SurfacePoint surface_point(const Vec2& uv, BasisChainWork& work) const;
+  // What surface_point(uv) reads of the current state: the position is sum_k R[k] x[index[k]] + offset.
+  // It depends on the reference surface and the crack only, so it can be kept while they do not change
+  // (a render mesh's vertices between frames). offset is non-zero for a Rigid fallback only.
+  struct SurfaceStencil {
+    BasisLevel level = BasisLevel::Nurbs;
+    std::vector<int> index;
+    std::vector<double> R;
+    Vec3 offset = Vec3::Zero();
+  };
+  // Fills `out` (its vectors are reused) for the point at uv.
+  void surface_stencil(const Vec2& uv, BasisChainWork& work, SurfaceStencil& out) const;
+  // sum_k R[k] x[index[k]] + offset, in surface_point's order of summation.
+  Vec3 stencil_position(const int* index, const double* R, size_t count, const Vec3& offset) const {
+    Vec3 p = Vec3::Zero();
+    for (size_t k = 0; k < count; ++k) p += R[k] * x[static_cast<size_t>(index[k])];
+    return p + offset;
+  }
   // surface_point(uv).position with per-thread scratch of its own (`work` is not used any more).
   Vec3 position_at(const Vec2& uv, MlsBasis& work) const;
 

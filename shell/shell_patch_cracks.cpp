@@ -324,32 +324,41 @@ void ShellPatch::rebuild_mls_gather() {
   for (size_t c = 0; c < num_cells_; ++c) shear_near_crack_[c] = shear_slot_[c] != -1;
 }
 
-ShellPatch::SurfacePoint ShellPatch::surface_point(const Vec2& uv, BasisChainWork& work) const {
+void ShellPatch::surface_stencil(const Vec2& uv, BasisChainWork& work, SurfaceStencil& out) const {
   nurbs::SurfaceBasis basis;
   reference_.rational_basis(uv.x(), uv.y(), basis);
   bool cut = false;
   if (crack_ && crack_->num_segments() > 0)
     for (int k = 0; k < basis.count && !cut; ++k)
       cut = crack_->crosses(uv, control_grid_.point(basis.index[static_cast<size_t>(k)]));
-  SurfacePoint out;
+  out.offset.setZero();
   if (cut) {  // near the crack: the quadrature points' fallback chain, never the NURBS average
     const PointFit fit = fit_chain(uv, work);
     out.level = fit.level;
     if (fit.level != BasisLevel::Removed) {
       const MlsBasis& b = work.basis;
-      for (size_t k = 0; k < b.index.size(); ++k) out.position += b.R[k] * x[static_cast<size_t>(b.index[k])];
-      if (fit.level == BasisLevel::Rigid) {
+      out.index.assign(b.index.begin(), b.index.end());
+      out.R.assign(b.R.begin(), b.R.begin() + static_cast<std::ptrdiff_t>(b.index.size()));
+      if (fit.level == BasisLevel::Rigid) {  // a translation: the rest point minus where the weights put it
         Vec3 mean_rest = Vec3::Zero();
         for (size_t k = 0; k < b.index.size(); ++k)
           mean_rest += b.R[k] * reference_.control_points()[static_cast<size_t>(b.index[k])];
-        out.position += reference_.point(fit.at.x(), fit.at.y()) - mean_rest;
+        out.offset = reference_.point(fit.at.x(), fit.at.y()) - mean_rest;
       }
-      return out;
+      return;
     }
+  } else {
+    out.level = BasisLevel::Nurbs;
   }
-  for (int k = 0; k < basis.count; ++k)
-    out.position += basis.R[static_cast<size_t>(k)] * x[static_cast<size_t>(basis.index[static_cast<size_t>(k)])];
-  return out;
+  // NURBS, or the NURBS position of a Removed point (meaningless; its faces are dropped).
+  out.index.assign(basis.index.begin(), basis.index.begin() + basis.count);
+  out.R.assign(basis.R.begin(), basis.R.begin() + basis.count);
+}
+
+ShellPatch::SurfacePoint ShellPatch::surface_point(const Vec2& uv, BasisChainWork& work) const {
+  thread_local SurfaceStencil stencil;
+  surface_stencil(uv, work, stencil);
+  return {stencil_position(stencil.index.data(), stencil.R.data(), stencil.index.size(), stencil.offset), stencil.level};
 }
 
 Vec3 ShellPatch::position_at(const Vec2& uv, MlsBasis&) const {

@@ -70,6 +70,28 @@ TEST(Fracture, ModeOneTearIsStraightConsistentAndKeepsItsArea) {
   EXPECT_LE(area, 1.02);
 }
 
+// The run's frame renderer keeps each cracked patch's vertex bases until its crack changes: at every
+// frame of the mode-I tear, while the crack grows and after, its meshes equal a fresh render's exactly
+// (positions, faces, and the rest positions of the quality metrics).
+TEST(Fracture, KeptRenderBasesGiveTheFreshMeshAsTheCrackGrows) {
+  Simulation sim(scene::build_model(tear_scene(""), "tear.json"));
+  output::FrameRenderer renderer;
+  size_t edges_seen = 0, changes = 0;
+  for (int frame = 1; frame <= 24; ++frame) {
+    sim.advance_to(0.05 * frame);
+    const crack2d::CrackGraph* g = sim.crack_graph(0);
+    const size_t edges = g ? g->num_edges() : 0;
+    changes += edges != edges_seen;
+    edges_seen = edges;
+    const output::FrameMeshes kept = renderer.render(sim), fresh = output::render_frame(sim);
+    ASSERT_EQ(kept.meshes.size(), fresh.meshes.size());
+    EXPECT_EQ(kept.meshes[0].positions, fresh.meshes[0].positions) << "frame " << frame;
+    EXPECT_EQ(kept.meshes[0].face_vertices, fresh.meshes[0].face_vertices) << "frame " << frame;
+    EXPECT_EQ(kept.rest, fresh.rest) << "frame " << frame;
+  }
+  EXPECT_GE(changes, 3u);  // the crack grew between frames: the kept bases were rebuilt
+}
+
 // A 0.4 x 0.2 m sheet cut through at u = 0.5; the halves get opposite x velocities.
 // fracture.weibull: every in-plane point's sigma_f is its material or region value times its own seeded
 // Weibull factor; H (the softening slope) stays the point's. Checked against the inverse CDF written out
