@@ -6,6 +6,7 @@
 //
 // range(0): the cube's side in particles; range(1): 0 = Rankine, 1 = phase field + CG, 2 = phase field
 // + CHOLMOD. Counters: ms per step and of the phase-field stage, CG iterations per solve, unknowns.
+// BM_PhaseFieldInterval: the CG phase field solved every 1, 5 or 10 steps at 512K particles.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -38,9 +39,7 @@ BrittleSolid stretched_cube(int n, double s, DamageModel model) {
   return solid;
 }
 
-void BM_DamageStep(benchmark::State& state) {
-  const int n = static_cast<int>(state.range(0));
-  const int mode = static_cast<int>(state.range(1));
+void damage_step(benchmark::State& state, int n, int mode, size_t interval) {
   const double s = 0.0025;
   BrittleSolid solid = stretched_cube(n, s, mode == 0 ? DamageModel::Rankine : DamageModel::PhaseField);
   SolverOptions o;
@@ -48,6 +47,7 @@ void BM_DamageStep(benchmark::State& state) {
   o.two_fields = false;
   o.phase_field.mobility = 2000;
   o.phase_field.solver = mode == 2 ? PhaseFieldSolver::Cholmod : PhaseFieldSolver::ConjugateGradient;
+  o.phase_field.interval = interval;
   BrittleSolver solver(solid, o);
   for (int warm = 0; warm < 2; ++warm) solver.step();
   const StageTimes before = solver.times();
@@ -66,6 +66,16 @@ void BM_DamageStep(benchmark::State& state) {
   state.counters["unknowns"] = static_cast<double>(pf.unknowns);
   state.counters["analyses"] = static_cast<double>(pf.analyses - pf_before.analyses);
 }
+void BM_DamageStep(benchmark::State& state) {
+  damage_step(state, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), 1);
+}
+// The phase field with CG solved every range(1) steps (phase_field.interval; each solve covers the steps
+// since the last one), at 512K particles: 20 steps per measurement, so that every run averages whole
+// intervals.
+void BM_PhaseFieldInterval(benchmark::State& state) {
+  damage_step(state, 80, 1, static_cast<size_t>(state.range(0)));
+}
+BENCHMARK(BM_PhaseFieldInterval)->Arg(1)->Arg(5)->Arg(10)->Iterations(20)->Unit(benchmark::kMillisecond)->UseRealTime();
 // 8K, 64K, 216K, 512K and 1M particles.
 BENCHMARK(BM_DamageStep)
     ->ArgsProduct({{20, 40, 60, 80, 100}, {0, 1, 2}})
