@@ -166,24 +166,29 @@ TEST(VerificationRun, ProbesReactionsControlPointsAndRest) {
 
 namespace {
 
-// The Scordelis-Lo roof of scenes/verification/ at another degree and cell count: the vertical
-// displacement of the free edge's middle at rest (summary.json's probe).
-double roof_deflection(int degree, int cells) {
+// A scene of scenes/verification/ run at another degree and cell count; its summary.json.
+nlohmann::json run_verification_scene(const std::string& file, int degree, int cells) {
   nlohmann::json scene;
-  std::ifstream(fs::path(SHELLFRAC_SOURCE_DIR) / "scenes" / "verification" / "scordelis-lo.json") >> scene;
+  std::ifstream(fs::path(SHELLFRAC_SOURCE_DIR) / "scenes" / "verification" / file) >> scene;
   scene["shells"][0]["patch"]["degree"] = {degree, degree};
   scene["shells"][0]["patch"]["cells"] = {cells, cells};
-  const fs::path d = scratch("roof_" + std::to_string(degree) + "_" + std::to_string(cells));
+  const fs::path d = scratch(file + "_" + std::to_string(degree) + "_" + std::to_string(cells));
   std::ofstream(d / "s.json") << scene.dump();
   const Result r = shellfrac::test::run_shellfrac("run " + (d / "s.json").string() + " --threads 2 --out " + (d / "out").string());
   EXPECT_EQ(r.exit_code, 0) << r.output;
   nlohmann::json s;
   std::ifstream(d / "out" / "summary.json") >> s;
+  fs::remove_all(d);
+  return s;
+}
+
+// The Scordelis-Lo roof: the vertical displacement of the free edge's middle at rest (its probe).
+double roof_deflection(int degree, int cells) {
+  const nlohmann::json s = run_verification_scene("scordelis-lo.json", degree, cells);
   EXPECT_TRUE(s["until_rest"]["reached"].get<bool>());  // the probe is read at rest
   const double uz = s["probes"][0]["displacement"].back()[2].get<double>();
   std::printf("Scordelis-Lo roof, degree %d, %d cells: vertical displacement %.6f (%.2f %% from 0.03006)\n", degree,
               cells, uz, 100 * (-uz / 0.03006 - 1));
-  fs::remove_all(d);
   return uz;
 }
 
@@ -205,24 +210,14 @@ TEST(VerificationCli, DISABLED_RoofWithinOnePercentOfTheReferenceAtSixteenCells)
   EXPECT_NEAR(-roof_deflection(3, 16) / 0.03006, 1.0, 0.01);
 }
 
-// The pinched cylinder of scenes/verification/ (one octant) at a degree and cell count: the radial
-// displacement under the load at the end (summary.json's probe; the load points along -y).
+// The pinched cylinder (one octant): the radial displacement under the load at the end (its probe; the
+// load points along -y).
 double pinched_cylinder(int degree, int cells, bool at_rest) {
-  nlohmann::json scene;
-  std::ifstream(fs::path(SHELLFRAC_SOURCE_DIR) / "scenes" / "verification" / "pinched-cylinder.json") >> scene;
-  scene["shells"][0]["patch"]["degree"] = {degree, degree};
-  scene["shells"][0]["patch"]["cells"] = {cells, cells};
-  const fs::path d = scratch("pinched_" + std::to_string(degree) + "_" + std::to_string(cells));
-  std::ofstream(d / "s.json") << scene.dump();
-  const Result r = shellfrac::test::run_shellfrac("run " + (d / "s.json").string() + " --threads 2 --out " + (d / "out").string());
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  nlohmann::json s;
-  std::ifstream(d / "out" / "summary.json") >> s;
+  const nlohmann::json s = run_verification_scene("pinched-cylinder.json", degree, cells);
   EXPECT_EQ(s["until_rest"]["reached"].get<bool>(), at_rest);
   const double radial = -s["probes"][0]["displacement"].back()[1].get<double>();
   std::printf("pinched cylinder, degree %d, %d cells: radial displacement %.6e (%.2f %% from 1.8248e-2)\n", degree,
               cells, radial, 100 * (radial / 1.8248e-2 - 1));
-  fs::remove_all(d);
   return radial;
 }
 
