@@ -249,14 +249,14 @@ void warn_about_run(const Summary& s, std::ostream& log) {
 Summary run_scene(const scene::Model& model, const RunOptions& options, std::ostream& log) {
   const auto start = std::chrono::steady_clock::now();
   if (options.out_dir.empty()) throw core::InputError("the output folder (--out) must not be empty");
-  const double frame_count = std::floor(model.time.end * model.time.frame_rate + 1e-9) + 1;
+  const double frame_count = scene::model::frames_after_start(model.time.end, model.time.frame_rate) + 1;
   if (!(frame_count < INT_MAX))
     throw core::InputError(model.source + ": /time/end: the run would write more than " + std::to_string(INT_MAX) + " frames");
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
 
   // A last, shorter frame at `end` when it is not on a frame boundary (scene::model::frames_after_start).
-  const int last_frame = scene::model::frames_after_start(model.time.end, model.time.frame_rate);
+  const int last_frame = static_cast<int>(frame_count) - 1;
   Progress progress(log, options.interactive, model.time.end > 0 ? model.time.end : 1.0, "s");
   // Progress lines also while the set-up, a single step or an export runs long.
   StepWatchdog watchdog(progress);

@@ -407,7 +407,7 @@ ResourceEstimate estimate_resources(const Scene& input) {
   std::string dt_path;
   e.dt = stable_step(scene, shells, e.grid_dx, dt_path);
   const double end = scene.time.end.value_or(1.0), rate = scene.time.frame_rate.value_or(24.0);
-  e.frames = static_cast<double>(model::frames_after_start(end, rate)) + 1;
+  e.frames = model::frames_after_start(end, rate) + 1;
   e.frames_path = rate > 1000 ? "/time/frame_rate" : "/time/end";
   // At least one step per frame (sim::Simulation::advance_to); the shatter loop's rigid steps run inside.
   e.steps = std::max(end / e.dt, e.frames - 1);

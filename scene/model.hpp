@@ -314,11 +314,11 @@ struct CrackSettings {
 };
 
 // Frames of a run: frame 0 at t = 0, then one every 1 / rate, and a last one at `end` when `end` is not
-// on a frame boundary (so the run always reaches `end`). The number of frames after frame 0, and the
-// time of frame f.
-inline int frames_after_start(double end, double rate) {
+// on a frame boundary (so the run always reaches `end`). The number of frames after frame 0 (a double:
+// hostile scenes ask for more than an int holds, and callers refuse them), and the time of frame f.
+inline double frames_after_start(double end, double rate) {
   const double whole = std::floor(end * rate + 1e-9);
-  return static_cast<int>(whole) + (end - whole / rate > 1e-9 * std::max(1.0, end) ? 1 : 0);
+  return whole + (end - whole / rate > 1e-9 * std::max(1.0, end) ? 1.0 : 0.0);
 }
 inline double frame_time(int f, double end, double rate) {
   return f <= std::floor(end * rate + 1e-9) ? f / rate : end;

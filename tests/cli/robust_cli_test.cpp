@@ -245,10 +245,12 @@ TEST(CliRobust, OutputFolderHoldsOnlyThisRunsFrames) {
   ASSERT_EQ(second.exit_code, 0) << second.output;
   EXPECT_THAT(second.output, HasSubstr("removed 1 staging folder(s)"));
   EXPECT_THAT(second.output, HasSubstr("removed 8 file(s) of an earlier run"));
+  // 0.05 s ends between two frames at 30 frames/s: frames at 0, 1/30 and 0.05 s.
   EXPECT_EQ(frame_files(d / "out" / "frames"),
-            (std::set<std::string>{"frame_00000.mtl", "frame_00000.obj", "frame_00001.mtl", "frame_00001.obj"}));
+            (std::set<std::string>{"frame_00000.mtl", "frame_00000.obj", "frame_00001.mtl", "frame_00001.obj",
+                                   "frame_00002.mtl", "frame_00002.obj"}));
   std::ifstream in(d / "out" / "summary.json");
-  EXPECT_EQ(nlohmann::json::parse(in)["frames"].size(), 2u);
+  EXPECT_EQ(nlohmann::json::parse(in)["frames"].size(), 3u);
   // --keep-old-frames leaves them.
   std::ofstream(d / "out" / "frames" / "frame_00042.obj") << "v 0 0 0\n";
   ASSERT_EQ(run_text(d, cloth(R"({"end": 0.05, "frame_rate": 30})"), "--keep-old-frames").exit_code, 0);
