@@ -1,6 +1,9 @@
 #pragma once
 // Scenes of the speed-accuracy sweeps and the stability map, built in code as scene::Scene values so that
 // their discretisation can be varied; they go through scene::build() like any scene file.
+#include <string>
+#include <vector>
+
 #include "scene/scene.hpp"
 #include "tools/bench_sweep.hpp"
 
@@ -23,6 +26,28 @@ scene::Scene mode_one_tear(const Discretisation& d);
 // A 1 x 1 m cloth dropped on a ball, either as one 2N x 2N patch or as two C1-coupled patches that meet
 // at x = 0 (N/2 x N cells left, N x 2N right, nested knots).
 scene::Scene drape(const Discretisation& d, bool two_patches);
+
+// The notched specimens of the brittle benches, as in scenes/brittle/: a box on z = 0, centred on x = 0
+// and spanning y in [0, 2 half_extents.y], with a notch cut up from z = 0 at x = 0, and the boxes that
+// load it. Material: E 10 MPa, nu 0.2, 1000 kg/m^3, G 8 J/m^2 (kSpecimen*). The stability map builds
+// scenes of them (below), the crack-speed study its solver directly (tools/crack_speed.hpp).
+constexpr double kSpecimenE = 1e7, kSpecimenNu = 0.2, kSpecimenDensity = 1000, kSpecimenFractureEnergy = 8;
+struct LoadingBox {
+  std::string name;
+  scene::Vec3 center, half_extents;
+  std::string boundary;  // "sticky" or "slip"
+  scene::Vec3 velocity;
+};
+struct NotchedSpecimen {
+  scene::Vec3 half_extents;
+  double notch_half_width = 0, notch_depth = 0;
+  double failure_stress = 0;  // Rankine's sigma_f
+  double end = 0;             // seconds of loading
+  std::vector<LoadingBox> loading;
+};
+// "bar" (pulled apart by two sticky grips at 0.1 m/s each) or "beam" (three-point bending: two slip
+// supports, a box pressing its centre at 0.3 m/s); std::invalid_argument for another name.
+const NotchedSpecimen& notched_specimen(const std::string& name);
 
 // Brittle solids (docs/brittle.md), as in scenes/brittle/, by `damage_model`: "rankine" (thesis),
 // "phase_field" or "nacc" (CD-MPM; their default parameters of the shipped scenes).

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "brittle/solver.hpp"
+#include "tools/bench_scenes.hpp"
 #include "tools/charts.hpp"
 
 namespace shellfrac::tools {
@@ -16,37 +17,25 @@ namespace {
 
 using brittle::Vec3;
 
-// The specimen's geometry and loading (crack_speed.hpp).
-struct Specimen {
-  Vec3 half_extents;
-  double notch_half_width = 0, notch_depth = 0;
-  double failure_stress = 0;  // Rankine
-  bool bending = false;       // beam: supports and a loading box; bar: two pulling grips
-};
+using bench_scenes::NotchedSpecimen;
 
-Specimen specimen(const std::string& name) {
-  if (name == "bar") return {Vec3(0.06, 0.01, 0.01), 0.002, 0.008, 5e4, false};
-  if (name == "beam") return {Vec3(0.1, 0.01, 0.02), 0.003, 0.012, 1e5, true};
-  throw std::invalid_argument("crack speed study: specimen must be \"bar\" or \"beam\", got \"" + name + "\"");
-}
-
-brittle::BrittleSolid sample(const Specimen& s, double spacing, brittle::DamageModel model) {
+brittle::BrittleSolid sample(const NotchedSpecimen& s, double spacing, brittle::DamageModel model) {
   brittle::BrittleSolid solid;
-  solid.material.youngs_modulus = 1e7;
-  solid.material.poisson_ratio = 0.2;
-  solid.material.density = 1000;
-  solid.material.fracture_energy = 8;
+  solid.material.youngs_modulus = bench_scenes::kSpecimenE;
+  solid.material.poisson_ratio = bench_scenes::kSpecimenNu;
+  solid.material.density = bench_scenes::kSpecimenDensity;
+  solid.material.fracture_energy = bench_scenes::kSpecimenFractureEnergy;
   solid.material.failure_stress = s.failure_stress;  // read by Rankine only
   solid.material.model = model;
   solid.spacing = spacing;
   std::vector<Vec3> points;
-  const Vec3 size = 2 * s.half_extents;
+  const Vec3 half(s.half_extents[0], s.half_extents[1], s.half_extents[2]), size = 2 * half;
   const int nx = static_cast<int>(std::lround(size.x() / spacing)), ny = static_cast<int>(std::lround(size.y() / spacing)),
             nz = static_cast<int>(std::lround(size.z() / spacing));
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
-        const Vec3 p(-s.half_extents.x() + spacing * (i + 0.5), spacing * (j + 0.5), spacing * (k + 0.5));
+        const Vec3 p(-half.x() + spacing * (i + 0.5), spacing * (j + 0.5), spacing * (k + 0.5));
         if (std::abs(p.x()) < s.notch_half_width && p.z() < s.notch_depth) continue;
         points.push_back(p);
       }
@@ -54,33 +43,20 @@ brittle::BrittleSolid sample(const Specimen& s, double spacing, brittle::DamageM
   return solid;
 }
 
-mpm::Collider box(const Vec3& centre, const Vec3& half_extents, mpm::Boundary boundary, const Vec3& velocity) {
-  mpm::Collider c;
-  c.shape = std::make_shared<mpm::Box>(centre, half_extents);
-  c.motion.linear_velocity = velocity;
-  c.boundary = boundary;
-  return c;
-}
-
-void add_loading(brittle::BrittleSolver& solver, const Specimen& s) {
-  const double y = s.half_extents.y(), depth = 2 * s.half_extents.y();
-  if (!s.bending) {
-    for (int side = -1; side <= 1; side += 2)
-      solver.add_collider(box(Vec3(side * (s.half_extents.x() - 0.005), y, s.half_extents.z()), Vec3(0.006, depth, depth),
-                              mpm::Boundary::Sticky, Vec3(side * 0.1, 0, 0)));
-    return;
+void add_loading(brittle::BrittleSolver& solver, const NotchedSpecimen& s) {
+  auto vec = [](const scene::Vec3& v) { return Vec3(v[0], v[1], v[2]); };
+  for (const bench_scenes::LoadingBox& box : s.loading) {
+    mpm::Collider c;
+    c.shape = std::make_shared<mpm::Box>(vec(box.center), vec(box.half_extents));
+    c.motion.linear_velocity = vec(box.velocity);
+    c.boundary = box.boundary == "sticky" ? mpm::Boundary::Sticky : mpm::Boundary::Slip;
+    solver.add_collider(c);
   }
-  // Supports 1 cm in from the ends, under the beam; the loading box above its centre.
-  for (int side = -1; side <= 1; side += 2)
-    solver.add_collider(box(Vec3(side * (s.half_extents.x() - 0.01), y, -0.005), Vec3(0.005, depth, 0.005),
-                            mpm::Boundary::Slip, Vec3::Zero()));
-  solver.add_collider(box(Vec3(0, y, 2 * s.half_extents.z() + 0.005), Vec3(0.005, depth, 0.005), mpm::Boundary::Slip,
-                          Vec3(0, 0, -0.3)));
 }
 
 // The top of the broken column growing from the notch root: particle layers (rows of equal z) are walked
 // up from the root while each holds a broken particle within 1 cm of the notch plane.
-double crack_tip(const brittle::BrittleSolid& solid, const Specimen& s) {
+double crack_tip(const brittle::BrittleSolid& solid, const NotchedSpecimen& s) {
   std::vector<double> broken_z;
   for (size_t p = 0; p < solid.size(); ++p)
     if (solid.damage[p].c_his >= 1.0 && std::abs(solid.rest[p].x()) < 0.01 && solid.rest[p].z() > s.notch_depth)
@@ -104,7 +80,7 @@ double first_reach(const CrackSpeedRun& r, double z) {
 CrackSpeedRun run_one(const std::string& name, double dx, brittle::DamageModel model, const CrackSpeedOptions& o,
                       const RunLimits& limits) {
   const auto start = std::chrono::steady_clock::now();
-  const Specimen s = specimen(name);
+  const NotchedSpecimen& s = bench_scenes::notched_specimen(name);
   brittle::BrittleSolid solid = sample(s, 0.5 * dx, model);
   solid.set_strength({}, brittle::WeibullStrength{}, dx);
   brittle::SolverOptions so;
@@ -120,7 +96,7 @@ CrackSpeedRun run_one(const std::string& name, double dx, brittle::DamageModel m
   r.dx = dx;
   r.particles = solid.size();
   r.notch_depth = s.notch_depth;
-  r.height = 2 * s.half_extents.z();
+  r.height = 2 * s.half_extents[2];
   double next_sample = 0;
   while (solver.time() < o.end) {
     check_stop(limits, "crack speed study (" + name + ", " + r.model + ", dx " + charts::number(dx) + ")");
@@ -152,7 +128,7 @@ CrackSpeedRun run_one(const std::string& name, double dx, brittle::DamageModel m
 
 std::vector<CrackSpeedRun> run_crack_speed_study(const CrackSpeedOptions& options, std::ostream& log,
                                                  const RunLimits& limits) {
-  specimen(options.specimen);  // refuse an unknown name before any run
+  bench_scenes::notched_specimen(options.specimen);  // refuse an unknown name before any run
   std::vector<CrackSpeedRun> runs;
   for (brittle::DamageModel model : {brittle::DamageModel::Rankine, brittle::DamageModel::PhaseField})
     for (double dx : options.spacings) {

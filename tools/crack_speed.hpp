@@ -2,7 +2,8 @@
 // Resolution dependence of local and non-local damage (docs/phase-field.md, "Where the local and the
 // non-local model differ"): a notched specimen is broken at several grid spacings with the thesis's Rankine
 // damage and with CD-MPM's phase field at a fixed physical length scale, and its crack tip is followed over
-// time. Run by `shellfrac_crack_speed_study` and by `shellfrac bench sweep`.
+// time. Run by `shellfrac_crack_speed_study` and by `shellfrac bench sweep`. The specimens and their
+// loading are bench_scenes::notched_specimen's (the stability map's bar and beam).
 //  - bar: 12 x 2 x 2 cm, notch 4 mm wide and 8 mm deep from z = 0, pulled apart by two sticky grips at
 //    0.1 m/s each (mode I in tension);
 //  - beam: 20 x 2 x 4 cm, notch 6 mm wide and 12 mm deep, on two slip supports, pressed at its centre from
