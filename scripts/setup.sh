@@ -25,6 +25,7 @@ packages=(
   libsuitesparse-dev     # CHOLMOD, the sparse Cholesky of the phase-field solve (brittle/)
   pybind11-dev python3-dev  # the Python module (python/, docs/python.md)
   python3-numpy python3-pytest python3-matplotlib  # its arrays, its tests (tests/python/), its examples
+  python3-distributed    # sweeps on a Dask cluster (python/shellfrac/sweep.py, `shellfrac bench verify --dask`)
 )
 
 missing=()

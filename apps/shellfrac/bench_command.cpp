@@ -11,6 +11,7 @@
 #include <memory>
 #include <string>
 
+#include "apps/shellfrac/bench_verify.hpp"
 #include "apps/shellfrac/budget.hpp"
 #include "output/interrupt.hpp"
 #include "tools/bench_sweep.hpp"
@@ -61,9 +62,16 @@ Command add_bench_command(CLI::App& app) {
       "stability", "Run each method variant of the tearing and draping scenes and classify the outcome; write "
                    "stability.csv and stability-map.png and print the table.");
   add_common_options(stability, *options);
+  auto* verify = bench->add_subcommand(
+      "verify", "Run the shell obstacle course (scenes/verification/course.json) over cells and degrees, "
+                "serially or on a Dask cluster (--dask); write verify.csv and error-vs-time/-dofs charts. "
+                "Every argument goes to `python3 -m shellfrac.verify_course` (see its --help).");
+  verify->prefix_command();    // the arguments after `verify` are the course runner's
+  verify->set_help_flag("");  // so is --help
 
-  return [bench, sweep, stability, options]() -> std::optional<int> {
+  return [bench, sweep, stability, verify, options]() -> std::optional<int> {
     if (!*bench) return std::nullopt;
+    if (*verify) return exec_course_runner(verify->remaining());
     const int threads = options->threads > 0 ? options->threads : tbb::info::default_concurrency();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
     return run_guarded([&] {
