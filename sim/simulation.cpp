@@ -238,7 +238,9 @@ void Simulation::stage_g2p(double dt) {
   // share at the same rate (one factor for all sets keeps momentum exact).
   const double keep = model_.damping > 0 ? std::exp(-model_.damping * dt) : 1.0;
   if (model_.grid.adaptive) {
-    shares_.update(world_, model_.grid.flip * keep, model_.grid.flip_active * keep);
+    // A quadratic B-spline stencil reaches nodes up to 1.5 dx away along each axis.
+    shares_.update(world_, model_.grid.flip * keep, model_.grid.flip_active * keep, colliders_, time_ + dt,
+                   1.5 * std::sqrt(3.0) * grid_.dx());
   } else {
     for (mpm::ParticleSet& s : world_.particle_sets()) s.flip = model_.grid.flip * keep;
   }

@@ -125,8 +125,16 @@ void TransferShares::turn_damaged_shells(World& world) {
   }
 }
 
-void TransferShares::update(World& world, double intact, double active) {
+void TransferShares::update(World& world, double intact, double active, const std::vector<mpm::Collider>& colliders,
+                            double t, double reach) {
   turn_damaged_shells(world);
+  std::vector<Eigen::Isometry3d> to_local;
+  for (const mpm::Collider& c : colliders) to_local.push_back(c.motion.pose(t).inverse());
+  auto touches_collider = [&](const Eigen::Vector3d& x) {
+    for (size_t c = 0; c < colliders.size(); ++c)
+      if (colliders[c].shape->signed_distance(to_local[c] * x) <= reach) return true;
+    return false;
+  };
   for (size_t i = 0; i < world.num_shells(); ++i) {
     const shell::ShellPatch& patch = world.shell(i);
     if (pic_shell_[i]) continue;  // shares stay 0, and the shell has no affine velocity: PIC
@@ -151,7 +159,8 @@ void TransferShares::update(World& world, double intact, double active) {
       if (hit) cell_active_[patch.cell_of(q)] = 1;
     }
     const std::vector<unsigned char>& control_near = patch.control_near_crack();
-    for (size_t k = 0; k < control.size(); ++k) control[k] = control_near[k] || seam_held_[i][k] ? active : intact;
+    for (size_t k = 0; k < control.size(); ++k)
+      control[k] = control_near[k] || seam_held_[i][k] || touches_collider(patch.x[k]) ? active : intact;
     const int support = patch.support_size();
     for (size_t c = 0; c < patch.num_cells(); ++c) {
       if (!cell_active_[c]) continue;
