@@ -23,8 +23,11 @@ def one(executor, course, config):
         start = time.perf_counter()
         rows = verify_course.run_course(out, course, config, executor=executor, draw=False)
         wall = time.perf_counter() - start
-    assert all(r["status"] == "completed" for r in rows), rows
-    return wall, sum(r["wall_seconds"] for r in rows)
+    done = [r for r in rows if r["status"] == "completed"]
+    if len(done) != len(rows):
+        print("  (%d of %d runs did not complete: %s)" % (len(rows) - len(done), len(rows), ", ".join(
+            "%s-p%d-c%d" % (r["case"], r["degree"], r["cells"]) for r in rows if r["status"] != "completed")))
+    return wall, sum(r["wall_seconds"] for r in done)
 
 
 def main():

@@ -63,6 +63,8 @@ def load_course(path):
         for key in ("cells", "degrees"):
             if not c[key] or not all(isinstance(n, int) and n >= 1 for n in c[key]):
                 raise CourseError("%s/%s: a list of positive integers" % (where, key))
+        if c.get("measure", "displacement") not in ("displacement", "period"):
+            raise CourseError("%s/measure: \"displacement\" (the probe's last value) or \"period\"" % where)
         c["scene_path"] = path.parent / c["scene"]
     return course
 
@@ -97,6 +99,19 @@ def plan(course, config="full", cases=None):
     return variants
 
 
+def crossing_period(times, values):
+    """The period of an oscillation about 0: twice the mean spacing of its sign changes (each located by
+    linear interpolation between samples), or None with fewer than three."""
+    crossings = []
+    for i in range(1, len(values)):
+        a, b = values[i - 1], values[i]
+        if (a < 0) != (b < 0) and a != b:
+            crossings.append(times[i - 1] + (times[i] - times[i - 1]) * (-a) / (b - a))
+    if len(crossings) < 3:
+        return None
+    return 2 * (crossings[-1] - crossings[0]) / (len(crossings) - 1)
+
+
 def expected_cost(info):
     """A run's cost up to a constant: control points x quadrature points per cell x steps (~ cells)."""
     return info["cells"] ** 3 * (info["degree"] + 1) ** 2
@@ -115,7 +130,14 @@ def measure(course, outcome):
     if probe is None or not probe["displacement"]:
         row["status"] = "no probe %s" % case["probe"]
         return row
-    value = case.get("sign", 1) * probe["displacement"][-1][COMPONENTS[case["component"]]]
+    component = [d[COMPONENTS[case["component"]]] for d in probe["displacement"]]
+    if case.get("measure", "displacement") == "period":
+        value = crossing_period(probe["time"], component)
+        if value is None:
+            row["status"] = "no oscillation at %s" % case["probe"]
+            return row
+    else:
+        value = case.get("sign", 1) * component[-1]
     row.update(measured=value, error_pct=100.0 * (value / case["reference"] - 1.0),
                dofs=3 * s["particle_counts"]["control_points"], steps=s["steps"], wall_seconds=s["wall_seconds"],
                simulated_seconds=s["simulated_seconds"],
@@ -200,8 +222,12 @@ def charts(rows, out):
     cases = list(dict.fromkeys(r["case"] for r in rows))
     for x_key, x_label, stem in (("wall_seconds", "wall time of the run (s)", "verify-error-vs-time"),
                                  ("dofs", "degrees of freedom (3 per control point)", "verify-error-vs-dofs")):
-        fig, axes = plt.subplots(1, len(cases), figsize=(5.2 * len(cases), 4.2), squeeze=False)
-        for ax, case in zip(axes[0], cases):
+        cols = min(3, len(cases))
+        rows_of_axes = (len(cases) + cols - 1) // cols
+        fig, axes = plt.subplots(rows_of_axes, cols, figsize=(5.2 * cols, 4.2 * rows_of_axes), squeeze=False)
+        for ax in axes.flat[len(cases):]:
+            ax.set_visible(False)
+        for ax, case in zip(axes.flat, cases):
             for degree in sorted({r["degree"] for r in rows if r["case"] == case}):
                 pts = sorted((r["cells"], r[x_key], max(abs(r["error_pct"]), 1e-3), r["at_rest"] == "false")
                              for r in rows if r["case"] == case and r["degree"] == degree and ok(r))

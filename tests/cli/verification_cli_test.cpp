@@ -229,4 +229,19 @@ TEST(VerificationCli, PinchedCylinderWithinOnePercentAtSixteenCells) {
   EXPECT_NEAR(pinched_cylinder(4, 8, false) / 1.8248e-2, 1.0, 0.03);
 }
 
+// Known failure (2026-12-06): the quarter of a simply supported plate (scenes/verification/
+// plate-simply-supported.json: rollers holding z on its outer edges, symmetry planes on the others) runs at
+// degree 2 (4, 8, 16 cells) and at degree 3 with 4 and 8 cells, but at degree 3 and 16 cells it diverges
+// at step 94 (t = 0.015 s) at the shipped cfl 1.0 ("stretched to more than 1000 times its area" beside
+// the roller edge v1); at cfl 0.5 it runs. Without the rollers (symmetry planes only) it runs at cfl 1;
+// with the outer edges clamped (two rows held) too. The step bound (h / c, sqrt(3) h^2 / (c t)) does not
+// follow what holding one component of a degree-3 edge does to the highest frequency; the pinched
+// hemisphere's held edge (scenes/verification/README.md) is likely the same fault. Criterion: the
+// default step is stable, and the deflection within 1 % of Navier's 0.00406235 q a^4 / D.
+TEST(VerificationCli, DISABLED_SimplySupportedPlateAtDegreeThreeRunsAtItsDefaultStep) {
+  const nlohmann::json s = run_verification_scene("plate-simply-supported.json", 3, 16);
+  ASSERT_EQ(s["status"], "completed");
+  EXPECT_NEAR(s["probes"][0]["displacement"].back()[2].get<double>() / 2.48421e-4, 1.0, 0.01);
+}
+
 }  // namespace
