@@ -31,7 +31,7 @@ import sys as _sys
 import time as _time
 import uuid as _uuid
 
-__all__ = ["Variant", "Outcome", "SweepError", "run_sweep", "run_variant", "connect", "close"]
+__all__ = ["Variant", "Outcome", "SweepError", "run_sweep", "run_variant", "connect", "close", "write_atomically"]
 
 _NAME = _re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
 _PARTIAL = ".partial"  # under <out>: run folders of variants still running (or of attempts that died)
@@ -266,7 +266,7 @@ def run_sweep(variants, out, executor=None, threads=1, retries=1, log=None):
     finally:
         _remove_partials(out, set(attempts))
     result = [outcomes[v.name] for v in variants]
-    _write_json_atomically(out / "sweep.json", {"variants": [o.to_dict() for o in result]})
+    write_atomically(out / "sweep.json", _json.dumps({"variants": [o.to_dict() for o in result]}, indent=1) + "\n")
     return result
 
 
@@ -284,12 +284,14 @@ def _remove_partials(out, names):
         pass
 
 
-def _write_json_atomically(path, data):
+def write_atomically(path, text):
+    """Writes ``text`` to ``path`` through a temporary file in the same folder and a rename: the file holds
+    the old content or the new, never part of either."""
+    path = _pathlib.Path(path)
     tmp = path.with_name(".%s.%s.tmp" % (path.name, _uuid.uuid4().hex))
     try:
         with open(tmp, "w") as f:
-            _json.dump(data, f, indent=1)
-            f.write("\n")
+            f.write(text)
             f.flush()
             _os.fsync(f.fileno())
         _os.replace(tmp, path)

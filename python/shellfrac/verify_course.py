@@ -149,19 +149,6 @@ FIELDS = ["case", "degree", "cells", "dofs", "steps", "wall_seconds", "simulated
           "reference", "error_pct", "status", "attempts", "worker"]
 
 
-def write_atomically(path, text):
-    tmp = path.with_name(".%s.%s.tmp" % (path.name, uuid.uuid4().hex))
-    try:
-        with open(tmp, "w") as f:
-            f.write(text)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-
-
 def table_csv(rows):
     buf = io.StringIO()
     w = csv.DictWriter(buf, fieldnames=FIELDS, lineterminator="\n")
@@ -261,7 +248,7 @@ def run_course(out, course_path=DEFAULT_COURSE, config="full", cases=None, execu
     longest_first = sorted(variants, key=lambda v: -expected_cost(v.info))
     outcomes = {o.name: o for o in sweep.run_sweep(longest_first, out / "runs", executor, threads=threads, log=log)}
     rows = [measure(course, outcomes[v.name]) for v in variants]
-    write_atomically(out / "verify.csv", table_csv(rows))
+    sweep.write_atomically(out / "verify.csv", table_csv(rows))
     if draw:
         charts(rows, out)
     return rows

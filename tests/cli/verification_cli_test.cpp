@@ -233,11 +233,12 @@ TEST(VerificationCli, PinchedCylinderWithinOnePercentAtSixteenCells) {
 // plate-simply-supported.json: rollers holding z on its outer edges, symmetry planes on the others) runs at
 // degree 2 (4, 8, 16 cells) and at degree 3 with 4 and 8 cells, but at degree 3 and 16 cells it diverges
 // at step 94 (t = 0.015 s) at the shipped cfl 1.0 ("stretched to more than 1000 times its area" beside
-// the roller edge v1); at cfl 0.5 it runs. Without the rollers (symmetry planes only) it runs at cfl 1;
-// with the outer edges clamped (two rows held) too. The step bound (h / c, sqrt(3) h^2 / (c t)) does not
-// follow what holding one component of a degree-3 edge does to the highest frequency; the pinched
-// hemisphere's held edge (scenes/verification/README.md) is likely the same fault. Criterion: the
-// default step is stable, and the deflection within 1 % of Navier's 0.00406235 q a^4 / D.
+// the roller edge v1); at cfl 0.9 and 0.5 it runs. Holding every component of the edge row fails as well;
+// holding two rows (the clamp), or none (symmetry planes only), runs at cfl 1. The step bound
+// (h / c, sqrt(3) h^2 / (c t)) does not follow the highest frequency of a degree-3 patch whose edge row
+// alone is held; the pinched hemisphere's held edge (scenes/verification/README.md) is likely the same
+// fault. Criterion: the default step is stable, and the deflection within 1 % of Navier's
+// 0.00406235 q a^4 / D.
 TEST(VerificationCli, DISABLED_SimplySupportedPlateAtDegreeThreeRunsAtItsDefaultStep) {
   const nlohmann::json s = run_verification_scene("plate-simply-supported.json", 3, 16);
   ASSERT_EQ(s["status"], "completed");
