@@ -225,6 +225,14 @@ def charts(rows, out):
                     ax.plot(x, e, "o", color=line.get_color(), mfc="white" if moving else line.get_color())
                     ax.annotate("%d" % cells, (x, e), textcoords="offset points", xytext=(4, 4), fontsize=7)
             ax.axhline(1.0, color="grey", lw=0.8, ls="--")
+            # Runs without a result (diverged, lost, no oscillation): a red cross on the top edge, at their
+            # cost where the summary has it.
+            top = ax.get_ylim()[1]
+            for r in rows:
+                if r["case"] == case and not ok(r) and math.isfinite(float(r[x_key])) and r[x_key] > 0:
+                    ax.plot(r[x_key], top, "x", color="red", ms=9, mew=2, clip_on=False)
+                    ax.annotate("p%d, %d cells: %s" % (r["degree"], r["cells"], r["status"]), (r[x_key], top),
+                                textcoords="offset points", xytext=(-10, -12), fontsize=7, color="red")
             ax.set_title("%s (labels: cells per side; hollow: not at rest)" % case, fontsize=9)
             ax.set_xlabel(x_label)
             ax.set_ylabel("|error| against the reference (%)")
