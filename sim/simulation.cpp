@@ -238,8 +238,13 @@ void Simulation::stage_g2p(double dt) {
   // share at the same rate (one factor for all sets keeps momentum exact).
   const double keep = model_.damping > 0 ? std::exp(-model_.damping * dt) : 1.0;
   if (model_.grid.adaptive) {
-    // A quadratic B-spline stencil reaches nodes up to 1.5 dx away along each axis.
-    shares_.update(world_, model_.grid.flip * keep, model_.grid.flip_active * keep, colliders_, time_ + dt,
+    // The scene's colliders at the end of the step, and the rigid world's projectiles (posed at 0, see
+    // ShatterSystem::striker); a quadratic B-spline stencil reaches nodes up to 1.5 dx away along each axis.
+    std::vector<TransferShares::PosedCollider> posed;
+    for (const mpm::Collider& c : colliders_) posed.emplace_back(&c, time_ + dt);
+    for (size_t k = 0; k < shatter_.num_strikers(); ++k)
+      if (const mpm::Collider* c = shatter_.striker(k, time_ + dt)) posed.emplace_back(c, 0.0);
+    shares_.update(world_, model_.grid.flip * keep, model_.grid.flip_active * keep, posed,
                    1.5 * std::sqrt(3.0) * grid_.dx());
   } else {
     for (mpm::ParticleSet& s : world_.particle_sets()) s.flip = model_.grid.flip * keep;

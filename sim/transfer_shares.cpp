@@ -125,14 +125,14 @@ void TransferShares::turn_damaged_shells(World& world) {
   }
 }
 
-void TransferShares::update(World& world, double intact, double active, const std::vector<mpm::Collider>& colliders,
-                            double t, double reach) {
+void TransferShares::update(World& world, double intact, double active, const std::vector<PosedCollider>& colliders,
+                            double reach) {
   turn_damaged_shells(world);
   std::vector<Eigen::Isometry3d> to_local;
-  for (const mpm::Collider& c : colliders) to_local.push_back(c.motion.pose(t).inverse());
+  for (const auto& [collider, t] : colliders) to_local.push_back(collider->motion.pose(t).inverse());
   auto touches_collider = [&](const Eigen::Vector3d& x) {
     for (size_t c = 0; c < colliders.size(); ++c)
-      if (colliders[c].shape->signed_distance(to_local[c] * x) <= reach) return true;
+      if (colliders[c].first->shape->signed_distance(to_local[c] * x) <= reach) return true;
     return false;
   };
   for (size_t i = 0; i < world.num_shells(); ++i) {

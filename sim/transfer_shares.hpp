@@ -29,6 +29,7 @@
 //    "adaptive_then_pic" / "adaptive_then_apic" turn a shell for good at its first damage or crack,
 //    "adaptive" keeps the adaptive shares anyway, "pic" runs such shells as PIC throughout.
 // The shares differ between particles, so the grid's g2p restores exact linear momentum (mpm/sparse_grid.cpp).
+#include <utility>
 #include <vector>
 
 #include "mpm/colliders.hpp"
@@ -42,10 +43,10 @@ class TransferShares {
   void attach(World& world, const scene::Model& model);
   // Rewrites every share from the current damage, plastic strain and crack state.
   // A shell that turns to PIC loses its affine velocity here, hence the writable world.
-  // Control points within `reach` of a collider at time t take `active` (the stencil's reach: a node inside
-  // the collider may be in it).
-  void update(World& world, double intact, double active, const std::vector<mpm::Collider>& colliders, double t,
-              double reach);
+  // Control points within `reach` of a collider take `active` (the stencil's reach: a node inside the
+  // collider may be in it); each collider comes with the time to evaluate its pose at.
+  using PosedCollider = std::pair<const mpm::Collider*, double>;
+  void update(World& world, double intact, double active, const std::vector<PosedCollider>& colliders, double reach);
   // Whether shell i runs PIC (or APIC) instead of the adaptive shares at this step: for good since damage
   // or a crack appeared on it (GridSettings::turns_once_damaged), or while it is damaged
   // (GridSettings::pic_while_damaged).
