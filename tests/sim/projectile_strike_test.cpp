@@ -3,6 +3,7 @@
 // is taken from it before the rigid world steps on.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -48,6 +49,26 @@ TEST(ProjectileStrike, MarbleLosesTheMomentumThePaneGains) {
   EXPECT_GT(given.norm(), 0.1 * ball0.norm());  // the marble struck and gave a good part of its momentum
   EXPECT_GT(v.y(), -9.0);                        // and slowed
   EXPECT_LE(worst, 1e-6);
+}
+
+// The marble is a collider of the grid, so the pane's control points within a stencil's reach of it take
+// the active share (APIC), like those at the scene's colliders (sim/transfer_shares.hpp), and only those.
+TEST(ProjectileStrike, ControlPointsBesideTheMarbleTakeTheActiveShare) {
+  Simulation sim(scene::build_model(free_pane(10.0), "pane.json"));
+  sim.advance_to(2e-4);  // the marble is on the pane (it starts 1.5 mm above it)
+  const mpm::ParticleSet& control = sim.world().particle_sets()[sim.world().control_set(0)];
+  const Eigen::Vector3d centre = sim.shatter().striker_centre(0);
+  const double reach = 1.5 * std::sqrt(3.0) * sim.dx();
+  size_t near = 0;
+  for (size_t k = 0; k < control.count; ++k) {
+    const double distance = (sim.world().shell(0).x[k] - centre).norm() - 0.008;
+    // Positions have moved by one g2p since the shares were set: leave a thin band undecided.
+    if (std::abs(distance - reach) < 1e-4) continue;
+    EXPECT_EQ(control.flip_share[k], distance <= reach ? 0.0 : 1.0) << "control point " << k;
+    near += distance <= reach;
+  }
+  EXPECT_GT(near, 0u);
+  EXPECT_LT(near, control.count / 4);
 }
 
 }  // namespace
