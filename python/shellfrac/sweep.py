@@ -251,7 +251,7 @@ def run_sweep(variants, out, executor=None, threads=1, retries=1, log=None):
 
     serial = isinstance(submitter, _Serial)
     try:
-        for v in variants:  # executors start them in this order, so give the longest first
+        for v in variants:  # executors start them about in this order: put the longest first
             submit(v)
             while serial and pending:  # one at a time, each reported as it ends
                 settle(next(iter(pending)))
@@ -264,7 +264,8 @@ def run_sweep(variants, out, executor=None, threads=1, retries=1, log=None):
             f.cancel()
         raise
     finally:
-        _remove_partials(out, set(attempts))
+        # Only settled variants: after Ctrl-C a worker may still be running a pending one in its folder.
+        _remove_partials(out, set(outcomes))
     result = [outcomes[v.name] for v in variants]
     write_atomically(out / "sweep.json", _json.dumps({"variants": [o.to_dict() for o in result]}, indent=1) + "\n")
     return result
