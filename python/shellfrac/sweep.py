@@ -341,4 +341,5 @@ def close(client):
 
 
 if __name__ == "__main__":
-    _sys.exit("shellfrac.sweep is a library; the course runner is `python3 -m shellfrac.verify_course`")
+    _sys.exit("shellfrac.sweep is a library: sweep a scene with `python3 -m shellfrac.sweep_cli`, run the obstacle "
+              "course with `python3 -m shellfrac.verify_course`")

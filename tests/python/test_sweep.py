@@ -263,3 +263,40 @@ def test_cli_runs_the_course_on_a_separate_scheduler_and_workers(tmp_path):
     assert {v["status"] for v in recorded} == {"completed"} and len(recorded) == expected
     assert all(v["worker"].split(":")[1] != str(os.getpid()) for v in recorded)
     assert len(list(csv.DictReader(open(tmp_path / "verify.csv")))) == expected
+
+
+def sweep_cli(*args):
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    return subprocess.run([sys.executable, "-m", "shellfrac.sweep_cli", *args], capture_output=True, text=True,
+                          cwd=REPO, env=env, timeout=300)
+
+
+def test_sweep_cli_runs_every_combination_of_the_values(serial, tmp_path):
+    scene = tmp_path / "drape.json"
+    scene.write_text(json.dumps(drape(0.1)))
+    r = sweep_cli(str(scene), "--vary", "shells.0.material.E=1e4,2e4,4e4", "--vary", 'grid.transfer="adaptive"',
+                  "--out", str(tmp_path / "out"), "--dask", "local:2")
+    assert r.returncode == 0, r.stderr
+    rows = list(csv.DictReader(open(tmp_path / "out" / "sweep.csv")))
+    assert [(row["variant"], float(row["shells.0.material.E"]), row["grid.transfer"], row["status"]) for row in rows] == [
+        ("v000", 1e4, '"adaptive"', "completed"), ("v001", 2e4, '"adaptive"', "completed"),
+        ("v002", 4e4, '"adaptive"', "completed")]
+    # The same runs as short_variants() made in this process: the same frames.
+    for i, s in enumerate(serial):
+        frame = open(tmp_path / "out" / ("v%03d" % i) / s.summary["frames"][-1]).read()
+        assert frame == last_frame(s)
+
+
+@pytest.mark.parametrize("vary, message", [
+    ("shells.3.material.E=1", "shells has no element 3"),
+    ("shells.0.material.E=abc", "value 'abc' is not JSON"),
+    ("shells.0.material.nu=0.7", "/shells/0/material/nu"),
+    ("shells.0.material.E", "write PATH=VALUE"),
+])
+def test_sweep_cli_refuses_bad_input_before_running(tmp_path, vary, message):
+    scene = tmp_path / "drape.json"
+    scene.write_text(json.dumps(drape(0.1)))
+    r = sweep_cli(str(scene), "--vary", vary, "--out", str(tmp_path / "out"))
+    assert r.returncode == 2, r.stderr
+    assert message in r.stderr
+    assert not os.path.exists(tmp_path / "out")
