@@ -181,8 +181,8 @@ def _executor_of(executor):
 
 
 def _failure_text(exc):
-    text = "%s: %s" % (type(exc).__name__, exc)
-    return text.splitlines()[0] if text else type(exc).__name__
+    """The exception's kind and the first line of its message."""
+    return ("%s: %s" % (type(exc).__name__, exc)).splitlines()[0]
 
 
 def run_sweep(variants, out, executor=None, threads=1, retries=1, log=None):

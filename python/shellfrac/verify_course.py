@@ -229,7 +229,7 @@ def charts(rows, out):
             # cost where the summary has it.
             top = ax.get_ylim()[1]
             for r in rows:
-                if r["case"] == case and not ok(r) and math.isfinite(float(r[x_key])) and r[x_key] > 0:
+                if r["case"] == case and not ok(r) and math.isfinite(r[x_key]) and r[x_key] > 0:
                     ax.plot(r[x_key], top, "x", color="red", ms=9, mew=2, clip_on=False)
                     ax.annotate("p%d, %d cells: %s" % (r["degree"], r["cells"], r["status"]), (r[x_key], top),
                                 textcoords="offset points", xytext=(-10, -12), fontsize=7, color="red")

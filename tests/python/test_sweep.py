@@ -162,10 +162,15 @@ def test_bad_input_is_a_result_or_refused(tmp_path):
         sweep.run_sweep([sweep.Variant("../escape", bad)], tmp_path)
 
 
-def course_cli(*args, timeout=300):
+def module_cli(module, *args, timeout=300):
+    """Runs `python3 -m <module> ARGS` from the source tree with this interpreter's path."""
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
-    return subprocess.run([sys.executable, "-m", "shellfrac.verify_course", *args], capture_output=True, text=True,
-                          cwd=REPO, env=env, timeout=timeout)
+    return subprocess.run([sys.executable, "-m", module, *args], capture_output=True, text=True, cwd=REPO, env=env,
+                          timeout=timeout)
+
+
+def course_cli(*args, timeout=300):
+    return module_cli("shellfrac.verify_course", *args, timeout=timeout)
 
 
 def test_an_unreachable_scheduler_is_a_clear_error_within_ten_seconds(tmp_path):
@@ -266,9 +271,7 @@ def test_cli_runs_the_course_on_a_separate_scheduler_and_workers(tmp_path):
 
 
 def sweep_cli(*args):
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
-    return subprocess.run([sys.executable, "-m", "shellfrac.sweep_cli", *args], capture_output=True, text=True,
-                          cwd=REPO, env=env, timeout=300)
+    return module_cli("shellfrac.sweep_cli", *args)
 
 
 def test_sweep_cli_runs_every_combination_of_the_values(serial, tmp_path):
