@@ -49,6 +49,8 @@ model::CrackSettings build_cracks(const Cracks& c) {
   out.max_support = c.max_support.value_or(out.max_support);
   out.shadow_offset = c.shadow_offset.value_or(out.shadow_offset);
   out.tip_diffraction = c.tip_weights.value_or("diffraction") == "diffraction";
+  out.continuous_support = c.support.value_or("stepped") == "continuous";
+  out.support_margin = c.support_margin.value_or(out.support_margin);
   out.mass_scaling = c.mass_scaling.value_or(out.mass_scaling);
   return out;
 }

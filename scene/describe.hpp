@@ -578,6 +578,8 @@ void describe(V& v, Cracks& c) {
   v.number("max_support", c.max_support, Range::closed(1.5, 10.0));
   v.number("shadow_offset", c.shadow_offset, Range::open(0.0, 0.01));
   v.choice("tip_weights", c.tip_weights, {"visibility", "diffraction"});
+  v.choice("support", c.support, {"continuous", "stepped"});
+  v.number("support_margin", c.support_margin, Range::closed(1.1, 3.0));
   v.number("mass_scaling", c.mass_scaling, Range::closed(0.0, 0.1));
 }
 

@@ -308,6 +308,10 @@ struct CrackSettings {
   // surface stays closed at tips and around bends, docs/mls.md "Tip weights"), false = the thesis's
   // straight-line visibility (sec. 4.6).
   bool tip_diffraction = true;
+  // How cut bases choose their support (shell::SupportRule, docs/mls.md "Support size"): false = the
+  // stepped growth from 1.5 cells (the default), true = continuous; and the continuous rule's margin.
+  bool continuous_support = false;
+  double support_margin = 1.5;
   // Selective mass scaling beside cracks (ShellPatch::set_mass_scaling_budget): at most this share of a
   // patch's control-point mass is added to the points whose cut bases would shrink the step; 0 adds none.
   double mass_scaling = 0.0;

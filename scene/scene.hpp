@@ -427,6 +427,8 @@ struct Cracks {
   Opt<bool> phantom_nodes;
   Opt<double> contact_friction, max_support, shadow_offset;
   Opt<std::string> tip_weights;  // "visibility" or "diffraction"
+  Opt<std::string> support;      // "continuous" or "stepped"
+  Opt<double> support_margin;
   Opt<double> mass_scaling;      // added-mass budget beside cracks, a share of each patch's mass
 };
 

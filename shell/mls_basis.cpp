@@ -126,6 +126,26 @@ WeightDerivatives diffracted_weight(const Eigen::Vector2d& e, const Eigen::Vecto
   return D;
 }
 
+namespace detail {
+
+double weight_reach(const Eigen::Vector2d& xi, double pu, double pv, double tu, double tv, double cell_u,
+                    double cell_v, const TipWeights& tip) {
+  const Eigen::Vector2d e((pu - xi.x()) / cell_u, (pv - xi.y()) / cell_v);
+  const double plain = e.cwiseAbs().maxCoeff();
+  if (std::isnan(tu)) return plain;
+  // The stretch f of diffracted_weight, in cell units: g, and chi with the fade radius in cells, are the
+  // same at every support size.
+  const Eigen::Vector2d r((xi.x() - tu) / cell_u, (xi.y() - tv) / cell_v);
+  const double s0 = e.norm(), s2 = r.norm();
+  if (!(s0 > 0.0 && s2 > 0.0)) return plain;
+  const double s1 = Eigen::Vector2d((pu - tu) / cell_u, (pv - tv) / cell_v).norm();
+  const double g = std::max(1.0, (s1 + s2) / s0);
+  const double chi = tip.radius > 0.0 ? s2 * s2 / (s2 * s2 + tip.radius * tip.radius) : 1.0;
+  return (1.0 + (std::pow(g, tip.lambda) - 1.0) * chi) * plain;
+}
+
+}  // namespace detail
+
 ControlGrid ControlGrid::from_surface(const nurbs::NurbsSurface& surface) {
   ControlGrid grid;
   const nurbs::KnotVector& ku = surface.knots_u();
@@ -155,6 +175,8 @@ bool check_mls_inputs(const Eigen::Vector2d& xi, double cell_u, double cell_v, c
                s.max_factor >= s.initial_factor)) {
     why = "support factors must satisfy 0 < initial_factor (" + fmt(s.initial_factor) + ") <= max_factor (" +
           fmt(s.max_factor) + ")";
+  } else if (!(s.support_margin > 1.0 && std::isfinite(s.support_margin))) {
+    why = "support_margin = " + fmt(s.support_margin) + " must be finite and > 1";
   } else if (!(s.growth > 1.0 && std::isfinite(s.growth))) {
     why = "growth = " + fmt(s.growth) + " must be finite and > 1";
   } else if (s.min_neighbours < 1) {

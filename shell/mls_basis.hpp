@@ -31,9 +31,22 @@ struct TipWeights {
   bool corners = true;
 };
 
+// How the first support factor of an evaluation point is chosen (docs/mls.md, "Support size").
+//  - stepped: initial_factor, then growth steps. Two points a quarter cell apart along a crack face can land
+//    one step apart (2.37 against 2.88 cells), and the basis jumps between them; opened crack faces then
+//    show a sawtooth of over-stretched render edges.
+//  - continuous: support_margin times the distance, in cells, of the min_neighbours-th nearest visible
+//    control point (max-norm, lengthened around crack tips as the diffraction weight lengthens it), and
+//    never below initial_factor. It moves continuously with the evaluation point while the visible set stays.
+//  Either way the factor then grows by growth steps while the basis is rejected; the continuous rule then
+//  bisects back to the smallest accepted factor, which also moves continuously with the point.
+enum class SupportRule : unsigned char { stepped, continuous };
+
 // How the support of one evaluation point is chosen (thesis sec. 4.6, "we determine d_X").
 struct MlsSettings {
   double initial_factor = 1.5;  // d_alpha = factor * l_alpha; 1.5 l is the NURBS-equivalent support
+  SupportRule rule = SupportRule::stepped;
+  double support_margin = 1.5;  // continuous rule only; > 1 so that min_neighbours points have weight > 0
   double max_factor = 4.5;      // the thesis never needed more than ~4.5 l
   double growth = 1.25;         // factor multiplier per enlargement step (> 1); the last step lands on max_factor
   int min_neighbours = 9;       // visible control points with weight > 0 (9 for a quadratic basis)
@@ -80,6 +93,7 @@ struct MlsBasis {
     std::vector<int> support;                    // control point of each support point (compacted)
     std::vector<double> e1, e2;                  // local coordinates of the support points (compacted)
     std::vector<double> q;                       // local basis values per point (6 or 3)
+    std::vector<double> reach;                   // lengthened distances in cells (continuous support rule)
   } work;
 };
 
@@ -199,37 +213,92 @@ void report_mls_failure(const Eigen::Vector2d& xi, const MlsAttempt& attempt, co
 
 namespace detail {
 
-// The support search shared by mls_basis and mls_basis_with_sight: the factor starts at
-// settings.initial_factor and grows until the basis at that support is accepted, or fails at max_factor.
-// take(k, xi_k) is offered every candidate inside the support that the previous attempt did not test
+// The distance in cells at which a visible candidate's weight vanishes (weight > 0 iff factor exceeds it):
+// the max-norm of its offset, lengthened by the diffraction stretch when it is seen around a tip at (tu, tv)
+// (NaN: seen directly). The stretch does not depend on the support size (docs/mls.md, "Tip weights").
+double weight_reach(const Eigen::Vector2d& xi, double pu, double pv, double tu, double tv, double cell_u,
+                    double cell_v, const TipWeights& tip);
+
+// The continuous rule's first factor: support_margin times the min_neighbours-th smallest weight_reach of
+// the visible candidates, at least initial_factor, at most max_factor. gather(f) offers take() every
+// candidate within factor f not offered before; candidates are gathered only as far as the answer needs
+// (a candidate's reach is never below its max-norm distance).
+template <class Gather>
+double continuous_factor(const Eigen::Vector2d& xi, double cell_u, double cell_v, Gather&& gather,
+                         const MlsSettings& settings, MlsBasis::Workspace& work) {
+  const auto nth = static_cast<std::size_t>(std::max(settings.min_neighbours, 1) - 1);
+  double reach = settings.initial_factor;
+  for (;;) {
+    gather(reach);
+    double target = settings.max_factor;
+    const std::size_t n = work.index.size();
+    if (n > nth) {
+      work.reach.resize(n);
+      for (std::size_t c = 0; c < n; ++c) {
+        const bool around = c < work.tu.size();
+        work.reach[c] = weight_reach(xi, work.pu[c], work.pv[c], around ? work.tu[c] : std::nan(""),
+                                     around ? work.tv[c] : std::nan(""), cell_u, cell_v, settings.tip);
+      }
+      std::nth_element(work.reach.begin(), work.reach.begin() + static_cast<std::ptrdiff_t>(nth), work.reach.end());
+      target = std::clamp(settings.support_margin * work.reach[nth], settings.initial_factor, settings.max_factor);
+    }
+    if (target <= reach || reach >= settings.max_factor) return target;
+    reach = std::min(std::max(target, reach * settings.growth), settings.max_factor);
+  }
+}
+
+// The support search shared by mls_basis and mls_basis_with_sight: the factor starts at the rule's first
+// factor (settings.rule) and grows until the basis at that support is accepted, or fails at max_factor.
+// take(k, xi_k) is offered every candidate inside the support that an earlier attempt did not offer
 // (each candidate once) and appends the ones it keeps to out.work.
 template <class Candidates, class Take>
 bool grow_support(const Eigen::Vector2d& xi, const Candidates& candidates, Take&& take, const MlsSettings& settings,
                   MlsBasis& out) {
-  double factor = settings.initial_factor;
-  double prev_du = 0.0, prev_dv = 0.0;  // support of the previous attempt: its candidates are already tested
-  for (;;) {
-    const double du = factor * candidates.cell_u;
-    const double dv = factor * candidates.cell_v;
+  double gathered = 0.0;  // every candidate within this factor has been offered
+  auto gather = [&](double factor) {
+    if (factor <= gathered) return;
+    const double du = factor * candidates.cell_u, dv = factor * candidates.cell_v;
+    const double pu = gathered * candidates.cell_u, pv = gathered * candidates.cell_v;
     // The query box is inflated a little; the exact |offset| < d test below decides membership.
     candidates.for_each_in_box(xi, du * (1.0 + 1e-12), dv * (1.0 + 1e-12), [&](int k, const Eigen::Vector2d& xk) {
       const double au = std::abs(xk.x() - xi.x());
       const double av = std::abs(xk.y() - xi.y());
       if (!(au < du && av < dv)) return;
-      if (au < prev_du && av < prev_dv) return;
+      if (au < pu && av < pv) return;
       take(k, xk);
     });
-    out.factor = factor;
-    const MlsAttempt attempt = mls_evaluate(xi, du, dv, settings, out);
-    if (attempt.status == MlsStatus::ok) return true;
+    gathered = factor;
+  };
+  double factor = settings.rule == SupportRule::continuous
+                      ? continuous_factor(xi, candidates.cell_u, candidates.cell_v, gather, settings, out.work)
+                      : settings.initial_factor;
+  auto attempt_at = [&](double f) {
+    gather(f);
+    out.factor = f;
+    return mls_evaluate(xi, f * candidates.cell_u, f * candidates.cell_v, settings, out);
+  };
+  double rejected = 0.0;  // largest factor tried and rejected
+  for (;;) {
+    const MlsAttempt attempt = attempt_at(factor);
+    if (attempt.status == MlsStatus::ok) break;
     if (factor >= settings.max_factor) {
       report_mls_failure(xi, attempt, settings, out);
       return false;
     }
-    prev_du = du;
-    prev_dv = dv;
+    rejected = factor;
     factor = std::min(factor * settings.growth, settings.max_factor);
   }
+  if (settings.rule == SupportRule::stepped || rejected == 0.0) return true;
+  // Continuous rule: the first accepted factor would jump by a whole growth step between neighbouring
+  // points; the smallest accepted one (the factor where the rejection test flips) moves with the point.
+  // Bisection to 1e-4 of the factor: the accepted end of the bracket is kept.
+  double accepted = factor;
+  while (accepted - rejected > 1e-4 * accepted) {
+    const double mid = 0.5 * (rejected + accepted);
+    (attempt_at(mid).status == MlsStatus::ok ? accepted : rejected) = mid;
+  }
+  if (out.factor != accepted) attempt_at(accepted);
+  return true;
 }
 
 // Empties the candidate lists of out.work.

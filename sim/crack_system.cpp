@@ -92,6 +92,8 @@ struct CrackSystem::VisibilityCache {
 CrackSystem::CrackSystem(const scene::Model& model, World& world) {
   mls_settings_.max_factor = model.cracks.max_support;
   if (model.cracks.tip_diffraction) mls_settings_.tip.mode = shell::TipWeights::Mode::diffraction;
+  mls_settings_.rule = model.cracks.continuous_support ? shell::SupportRule::continuous : shell::SupportRule::stepped;
+  mls_settings_.support_margin = model.cracks.support_margin;
   phantom_nodes_ = model.cracks.phantom_nodes;
   cracks_.resize(world.num_shells());
   damaged_count_.assign(world.num_shells(), 0);

@@ -190,6 +190,10 @@ const BadCase kBadCases[] = {
     {"cracks_unknown_tip_weights", "/cracks", R"({"tip_weights": "transparency"})", "/cracks/tip_weights",
      "unknown value \"transparency\": allowed are \"visibility\", \"diffraction\""},
     {"cracks_tip_weights_not_a_string", "/cracks", R"({"tip_weights": 2})", "/cracks/tip_weights", "string"},
+    {"cracks_unknown_support", "/cracks", R"({"support": "smooth"})", "/cracks/support",
+     "unknown value \"smooth\": allowed are \"continuous\", \"stepped\""},
+    {"cracks_support_margin_too_small", "/cracks", R"({"support_margin": 1.0})", "/cracks/support_margin",
+     "value 1 is out of range: must be in [1.1, 3]"},
 };
 
 INSTANTIATE_TEST_SUITE_P(AllRules, SceneValidation, ::testing::ValuesIn(kBadCases),
@@ -202,6 +206,17 @@ TEST(SceneParse, TipWeightsDefaultToDiffractionAndAcceptVisibility) {
   EXPECT_FALSE(build_model(j.dump(), "ok.json").cracks.tip_diffraction);
   j["cracks"] = Json::parse(R"({"tip_weights": "diffraction"})");
   EXPECT_TRUE(build_model(j.dump(), "ok.json").cracks.tip_diffraction);
+}
+
+TEST(SceneParse, SupportRuleDefaultsToSteppedAndAcceptsContinuous) {
+  const Model plain = build_model(valid_scene().dump(), "ok.json");
+  EXPECT_FALSE(plain.cracks.continuous_support);
+  EXPECT_EQ(plain.cracks.support_margin, 1.5);
+  Json j = valid_scene();
+  j["cracks"] = Json::parse(R"({"support": "continuous", "support_margin": 1.25})");
+  const Model continuous = build_model(j.dump(), "ok.json");
+  EXPECT_TRUE(continuous.cracks.continuous_support);
+  EXPECT_EQ(continuous.cracks.support_margin, 1.25);
 }
 
 TEST(SceneParse, ValidSceneBuildsTheExpectedPatches) {
