@@ -3,12 +3,15 @@
 
     python3 scripts/tear_report.py [--shellfrac build/bin/shellfrac] [--out out/tears] [--threads 2]
                                    [--set grid.cracking_shells=pic ...] [--end plate-pressure=0.45 ...]
-                                   [SCENE.json ...]
+                                   [--strength-scale 0.98,1,1.02] [SCENE.json ...]
 
 Without scenes it runs every shipped scene with a shell that can crack (a "fracture" material or
 "cuts"). `--set KEY=VALUE` (JSON value, or a bare string) changes a dotted key in every scene's copy
 (`*` for every element of a list: shells.*.material.fracture.residual_stiffness=0.001);
-`--end NAME=T` runs one scene to another end time. Each row: pieces, slivers, the peak edge stretch over
+`--end NAME=T` runs one scene to another end time. `--strength-scale F1,F2,...` runs each scene once per
+factor with every fracture material's failure_stress multiplied by it (rows NAME@F; a scene without a
+failure stress runs once): a tear's outcome depends on its crack path, which is chaotic, so compare
+settings over a few of these rather than on one run. Each row: pieces, slivers, the peak edge stretch over
 all frames and its frame, the largest strand area of any frame, mls_failures, and the wall and CPU time
 of the run. Standard library only.
 """
@@ -40,6 +43,21 @@ def set_key(node, keys, value, create=True):
         set_key(node.setdefault(head, {}), rest, value, create)
 
 
+def scale_strength(node, factor):
+    """Multiplies every "failure_stress" number below node by factor; returns how many it changed."""
+    changed = 0
+    if isinstance(node, dict):
+        for key, value in node.items():
+            if key == "failure_stress" and isinstance(value, (int, float)):
+                node[key] = value * factor
+                changed += 1
+            else:
+                changed += scale_strength(value, factor)
+    elif isinstance(node, list):
+        changed = sum(scale_strength(item, factor) for item in node)
+    return changed
+
+
 def parse_value(text):
     try:
         return json.loads(text)
@@ -55,6 +73,7 @@ def main():
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     ap.add_argument("--end", action="append", default=[], metavar="NAME=T")
+    ap.add_argument("--strength-scale", default="", metavar="F1,F2,...")
     ap.add_argument("scenes", nargs="*")
     args = ap.parse_args()
 
@@ -63,19 +82,32 @@ def main():
         paths = [p for p in sorted(glob.glob(os.path.join(root, "scenes", "*.json")))
                  if can_crack(json.load(open(p)))]
     ends = dict((k, float(v)) for k, v in (e.split("=", 1) for e in args.end))
+    factors = [float(f) for f in args.strength_scale.split(",") if f.strip()]
+    if any(not f > 0 for f in factors):
+        ap.error("--strength-scale: every factor must be > 0")
     os.makedirs(args.out, exist_ok=True)
     print("%-24s %6s %7s %9s %5s %11s %4s %8s %8s %s" % ("scene", "pieces", "slivers", "peak_str", "frame",
                                                       "peak_strand", "mls", "wall_s", "cpu_s", "status"))
     failed = False
+    runs = []
     for path in paths:
-        name = os.path.splitext(os.path.basename(path))[0]
+        base = os.path.splitext(os.path.basename(path))[0]
         with open(path) as f:
             scene = json.load(f)
         for item in args.set:
             key, value = item.split("=", 1)
             set_key(scene, key.split("."), parse_value(value))
-        if name in ends:
-            scene["time"]["end"] = ends[name]
+        if base in ends:
+            scene["time"]["end"] = ends[base]
+        for factor in factors or [None]:
+            variant = json.loads(json.dumps(scene))
+            if factor is not None:
+                if not scale_strength(variant, factor):
+                    if factor != factors[0]:
+                        continue  # nothing to scale: one run of the scene is enough
+                    factor = None
+            runs.append((base if factor is None else "%s@%g" % (base, factor), variant))
+    for name, scene in runs:
         out_dir = os.path.join(args.out, name)
         copy = os.path.join(args.out, name + ".json")
         with open(copy, "w") as f:
