@@ -314,7 +314,8 @@ void BrittleSolver::stage_damage() {
   if (bad != std::numeric_limits<size_t>::max()) {
     std::ostringstream m;
     m << "particle " << bad << " (rest position " << solid_.rest[bad].transpose() << ") inverted or diverged at step "
-      << steps_ << " (det F = " << q.F[bad].determinant() << "); lower the time step (cfl) or the loading";
+      << steps_ << " (det F = " << q.F[bad].determinant() << ", damage " << solid_.damage[bad].c << ", largest damage "
+      << solid_.damage[bad].c_his << "); lower the time step (cfl) or the loading";
     throw NumericalError(m.str());
   }
   if (nacc && damage) {
