@@ -44,7 +44,7 @@ double largest_eigenvalue_bound(const Mat3d& s) {
 }
 
 Mat3d damage_step(const Mat3d& F, double rest_volume, double mu, double lambda, double failure_stress,
-                  double h, DamageRule rule, double time, ParticleDamage& st) {
+                  double h, DamageRule rule, double residual, double time, ParticleDamage& st) {
   const double J = F.determinant();
   const Mat3d kirchhoff = mu * (F * F.transpose() - Mat3d::Identity()) + lambda * std::log(J) * Mat3d::Identity();
   const Mat3d effective = kirchhoff / J;  // sigma_bar: the stress as if undamaged (sec. 2.3.2)
@@ -60,8 +60,9 @@ Mat3d damage_step(const Mat3d& F, double rest_volume, double mu, double lambda, 
   if (st.c > st.c_his) st.c_his = st.c;
   if (st.c_his >= 1.0 && st.tau < 0) st.tau = time;
   if (st.c == 0.0) return rest_volume * kirchhoff;
+  const double keep = 1.0 - (1.0 - residual) * st.c;  // Eq. 2.30 with a residual share r (0: the thesis)
   for (int i = 0; i < 3; ++i)
-    if (l[i] > 0) l[i] *= 1.0 - st.c;  // Eq. 2.29-2.30: tensile part only
+    if (l[i] > 0) l[i] *= keep;  // Eq. 2.29-2.30: tensile part only
   const Mat3d& q = eig.eigenvectors();
   return (rest_volume * J) * (q * l.asDiagonal() * q.transpose());  // V^0 J sigma (Eq. 2.31)
 }

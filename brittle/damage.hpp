@@ -40,6 +40,7 @@ struct ParticleDamage {
 // principal value, c_bar (Eq. 2.28), the rule, c_his and the damage time; returns the weakened stress
 // term V^0 J sigma(F, c) the MLS-MPM force uses (Eq. 2.24, 2.27). `time` is the time after the step.
 Mat3d damage_step(const Mat3d& F, double rest_volume, double mu, double lambda, double failure_stress,
-                  double brittleness, DamageRule rule, double time, ParticleDamage& state);
+                  double brittleness, DamageRule rule, double residual_stiffness, double time,
+                  ParticleDamage& state);
 
 }  // namespace shellfrac::brittle

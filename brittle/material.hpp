@@ -28,6 +28,9 @@ struct BrittleMaterial {
   double failure_stress = 0;   // sigma_f [Pa]: the default; regions and Weibull sampling vary it per particle
   double fracture_energy = 0;  // G_f [J/m^2], mode-I fracture energy
   DamageRule rule = DamageRule::Healing;  // Rankine only; the phase field never heals
+  // Rankine only: the share r of its tensile stress a fully damaged particle keeps (tensile principal
+  // stresses scaled by 1 - (1 - r) c instead of the thesis's 1 - c, Eq. 2.30). 0 is the thesis.
+  double residual_stiffness = 0;
   DamageModel model = DamageModel::Rankine;
   // l_ch [m]; 0 means the grid-cell diagonal sqrt(3) h the thesis uses (sec. 2.3.1, Table 3.3 caption).
   double characteristic_length = 0;

@@ -303,7 +303,8 @@ void BrittleSolver::stage_damage() {
           } else if (nacc && damage) {
             nacc_stress(p);
           } else if (damage)
-            q.stress[p] = damage_step(F, q.volume[p], mu, lambda, solid_.failure_stress[p], solid_.brittleness[p], rule, now,
+            q.stress[p] = damage_step(F, q.volume[p], mu, lambda, solid_.failure_stress[p], solid_.brittleness[p], rule,
+                                      solid_.material.residual_stiffness, now,
                                       solid_.damage[p]);
           else
             q.stress[p] = q.volume[p] * neo_hookean_kirchhoff(F, mu, lambda);

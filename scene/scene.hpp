@@ -132,7 +132,7 @@ struct SolidMaterial {
   // Damage of a brittle solid, read only with a "fracture" object: Rankine (thesis Eq. 2.28-2.31), the
   // default, the CD-MPM phase field, or CD-MPM's NACC plasticity.
   Opt<std::string> damage_model;  // "rankine", "phase_field" or "nacc"
-  Opt<double> failure_stress, fracture_energy, characteristic_length;
+  Opt<double> failure_stress, fracture_energy, characteristic_length, residual_stiffness;
   Opt<std::string> damage_rule;  // "healing" or "monotone" (Rankine)
   Opt<PhaseFieldMaterial> phase_field;
   Opt<NaccMaterial> nacc;

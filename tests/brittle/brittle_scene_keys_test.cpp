@@ -48,6 +48,20 @@ TEST(BrittleSceneKeys, NotchedBeamBuildsItsBrittleBody) {
   EXPECT_DOUBLE_EQ(b.solver.stop.damaged_fraction, 0.2);
   EXPECT_DOUBLE_EQ(b.sliver_volume, 0.005 * 0.005 * 0.005);  // default: one MPM cell
   EXPECT_EQ(m.colliders.size(), 3u);
+  EXPECT_EQ(b.solid->material.residual_stiffness, 0.0);  // the thesis's Eq. 2.30 unless the scene says
+}
+
+TEST(BrittleSceneKeys, ResidualStiffnessReachesTheMaterialWithinItsRange) {
+  Scene s = load_scene(brittle_scene("notched-beam").string());
+  s.solids[0].material->residual_stiffness = 0.001;
+  EXPECT_EQ(build(s).brittle_solids[0].solid->material.residual_stiffness, 0.001);
+  s.solids[0].material->residual_stiffness = 0.2;
+  try {
+    build(s);
+    ADD_FAILURE() << "residual_stiffness 0.2 accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.json_path(), "/solids/0/material/residual_stiffness");
+  }
 }
 
 TEST(BrittleSceneKeys, HertzImpactDurationFollowsEq311) {
@@ -158,6 +172,9 @@ TEST(BrittleSceneKeys, PhaseFieldKeysReachTheSolver) {
   EXPECT_EQ(refusal_path(bad), "/solids/0/material/phase_field/mobility");
   bad = s;
   bad.solids[0].material->failure_stress = 1e5;
+  EXPECT_EQ(refusal_path(bad), "/solids/0/material/damage_rule");
+  bad = s;
+  bad.solids[0].material->residual_stiffness = 1e-3;  // a Rankine key: the phase field has its own residual
   EXPECT_EQ(refusal_path(bad), "/solids/0/material/damage_rule");
   bad = s;
   bad.solids[0].material->damage_model = "rankine";

@@ -54,7 +54,7 @@ TEST(Damage, DamageStepUnderUniaxialStretch) {
   const double s2 = lambda * std::log(J) / J;                           // sigma_yy = sigma_zz
   const double sf = 0.8 * s1, H = 0.2;
   ParticleDamage st;
-  const Eigen::Matrix3d S = damage_step(F, V, mu, lambda, sf, H, DamageRule::Healing, 0.5, st);
+  const Eigen::Matrix3d S = damage_step(F, V, mu, lambda, sf, H, DamageRule::Healing, 0.0, 0.5, st);
   const double c = (1 + H) * (1 - sf / s1);
   EXPECT_NEAR(st.c, c, 1e-12);
   EXPECT_NEAR(st.c_his, c, 1e-12);
@@ -63,8 +63,8 @@ TEST(Damage, DamageStepUnderUniaxialStretch) {
   EXPECT_NEAR(S(1, 1), V * J * (1 - c) * s2, 1e-9 * V * s1);  // also tensile here (ln J > 0)
   // Unloading: healing returns to c = 0 and keeps c_his; monotone keeps c.
   ParticleDamage healing = st, monotone = st;
-  damage_step(Eigen::Matrix3d::Identity(), V, mu, lambda, sf, H, DamageRule::Healing, 1.0, healing);
-  damage_step(Eigen::Matrix3d::Identity(), V, mu, lambda, sf, H, DamageRule::Monotone, 1.0, monotone);
+  damage_step(Eigen::Matrix3d::Identity(), V, mu, lambda, sf, H, DamageRule::Healing, 0.0, 1.0, healing);
+  damage_step(Eigen::Matrix3d::Identity(), V, mu, lambda, sf, H, DamageRule::Monotone, 0.0, 1.0, monotone);
   EXPECT_EQ(healing.c, 0.0);
   EXPECT_NEAR(healing.c_his, c, 1e-12);
   EXPECT_NEAR(monotone.c, c, 1e-12);
@@ -72,10 +72,10 @@ TEST(Damage, DamageStepUnderUniaxialStretch) {
   Eigen::Matrix3d G = Eigen::Matrix3d::Identity();
   G(0, 0) = 1.2;
   ParticleDamage full;
-  damage_step(G, V, mu, lambda, sf, H, DamageRule::Healing, 2.0, full);
+  damage_step(G, V, mu, lambda, sf, H, DamageRule::Healing, 0.0, 2.0, full);
   EXPECT_EQ(full.c, 1.0);
   EXPECT_EQ(full.tau, 2.0);
-  damage_step(G, V, mu, lambda, sf, H, DamageRule::Healing, 3.0, full);
+  damage_step(G, V, mu, lambda, sf, H, DamageRule::Healing, 0.0, 3.0, full);
   EXPECT_EQ(full.tau, 2.0);
 }
 
@@ -88,7 +88,7 @@ TEST(Damage, CompressionNeverDamagesAndKeepsItsStress) {
   for (const Eigen::Vector3d& stretch : {Eigen::Vector3d(0.97, 0.97, 0.97), Eigen::Vector3d(0.9, 1.0, 1.0)}) {
     const Eigen::Matrix3d F = stretch.asDiagonal();
     ParticleDamage st;
-    const Eigen::Matrix3d S = damage_step(F, V, mu, lambda, sf, H, DamageRule::Monotone, 1.0, st);
+    const Eigen::Matrix3d S = damage_step(F, V, mu, lambda, sf, H, DamageRule::Monotone, 0.0, 1.0, st);
     EXPECT_EQ(st.c, 0.0) << stretch.transpose();
     EXPECT_EQ(st.c_his, 0.0);
     EXPECT_LT((S - V * neo_hookean_kirchhoff(F, mu, lambda)).norm(), 1e-12 * V * mu);
@@ -104,10 +104,35 @@ TEST(Damage, CompressionNeverDamagesAndKeepsItsStress) {
   ASSERT_LT(sy, 0.0);
   ASSERT_LT(sz, 0.0);
   ParticleDamage st;
-  const Eigen::Matrix3d S = damage_step(F, V, mu, lambda, sf, H, DamageRule::Healing, 1.0, st);
+  const Eigen::Matrix3d S = damage_step(F, V, mu, lambda, sf, H, DamageRule::Healing, 0.0, 1.0, st);
   EXPECT_EQ(st.c, 1.0);
   const Eigen::Matrix3d expected = V * J * (R * Eigen::Vector3d(0.0, sy, sz).asDiagonal() * R.transpose());
   EXPECT_LT((S - expected).norm(), 1e-9 * V * mu);
+}
+
+// With a residual stiffness r the tensile principal stresses are scaled by 1 - (1 - r) c (c = 1: r of the
+// undamaged value), the compressive ones are kept, and r = 0 is the thesis's Eq. 2.30 exactly.
+TEST(Damage, ResidualStiffnessKeepsItsShareOfTheTensileStress) {
+  const double mu = 1e6, lambda = 1.5e6, V = 1e-6, sf = 1.0, H = 0.5, r = 1e-3;
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.4, Eigen::Vector3d(0, 0, 1)).toRotationMatrix();
+  const Eigen::Matrix3d F = R * Eigen::Vector3d(1.3, 0.7, 1.0).asDiagonal() * R.transpose();
+  const double J = 1.3 * 0.7;
+  const double sx = (mu * (1.3 * 1.3 - 1) + lambda * std::log(J)) / J, sy = (mu * (0.7 * 0.7 - 1) + lambda * std::log(J)) / J,
+               sz = lambda * std::log(J) / J;
+  ParticleDamage full;
+  const Eigen::Matrix3d S = damage_step(F, V, mu, lambda, sf, H, DamageRule::Healing, r, 1.0, full);
+  ASSERT_EQ(full.c, 1.0);
+  const Eigen::Matrix3d expected = V * J * (R * Eigen::Vector3d(r * sx, sy, sz).asDiagonal() * R.transpose());
+  EXPECT_LT((S - expected).norm(), 1e-9 * V * mu);
+  // Partly damaged (uniaxial stretch as above): 1 - (1 - r) c on both tensile principal stresses.
+  Eigen::Matrix3d G = Eigen::Matrix3d::Identity();
+  G(0, 0) = 1.01;
+  const double s1 = (mu * (1.01 * 1.01 - 1) + lambda * std::log(1.01)) / 1.01;
+  ParticleDamage part;
+  const Eigen::Matrix3d P = damage_step(G, V, mu, lambda, 0.8 * s1, 0.2, DamageRule::Healing, 0.05, 1.0, part);
+  ASSERT_GT(part.c, 0.0);
+  ASSERT_LT(part.c, 1.0);
+  EXPECT_NEAR(P(0, 0), V * 1.01 * (1 - 0.95 * part.c) * s1, 1e-9 * V * s1);
 }
 
 }  // namespace
