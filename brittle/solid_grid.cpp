@@ -133,21 +133,25 @@ void SolidGrid::rebuild(const GVec3* x, size_t n, const std::vector<GVec3>& extr
     hi = hi.cwiseMax(e);
   }
   if (n == 0 && extra.empty()) lo = hi = GVec3::Zero();
-  Eigen::Vector3i lo_node, hi_node;
+  // Node ranges in doubles first: material flown far enough apart would overflow an int index, and the
+  // size check must see the true extent before anything is cast or allocated.
+  Eigen::Vector3d lo_d, extent;
   for (int a = 0; a < 3; ++a) {
-    lo_node[a] = static_cast<int>(std::floor(lo[a] * inv_dx_ - 0.5));
-    hi_node[a] = static_cast<int>(std::floor(hi[a] * inv_dx_ - 0.5)) + 2;
+    lo_d[a] = std::floor(lo[a] * inv_dx_ - 0.5);
+    extent[a] = std::floor(hi[a] * inv_dx_ - 0.5) + 2 - lo_d[a] + 1;
   }
-  const Eigen::Vector3i dims = hi_node - lo_node + Eigen::Vector3i::Ones();
-  const double nodes = static_cast<double>(dims.x()) * dims.y() * dims.z();
+  const double nodes = extent.x() * extent.y() * extent.z();
   const double bytes = nodes * (two_fields ? 2 * sizeof(GridNode) + sizeof(NodeNormal) : sizeof(GridNode));
-  if (bytes > static_cast<double>(memory_limit)) {
+  constexpr double kIndexLimit = 1e9;  // well inside int for the node indices and their sums
+  if (bytes > static_cast<double>(memory_limit) || lo_d.cwiseAbs().maxCoeff() > kIndexLimit ||
+      extent.maxCoeff() > kIndexLimit) {
     std::ostringstream m;
-    m << "the MPM grid around the solid would need " << dims.transpose() << " nodes (" << bytes / 1e9
+    m << "the MPM grid around the solid would need " << extent.transpose() << " nodes (" << bytes / 1e9
       << " GB, limit " << memory_limit / 1e9 << " GB): material has flown far apart or the grid spacing " << dx_
       << " m is too small";
     throw NumericalError(m.str());
   }
+  const Eigen::Vector3i lo_node = lo_d.cast<int>(), dims = extent.cast<int>();
   lo_ = lo_node;
   dims_ = dims;
   stride_y_ = dims.x();

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "brittle/crack_sides.hpp"
+#include "brittle/errors.hpp"
 #include "brittle/solid_grid.hpp"
 #include "brittle_test_helpers.hpp"
 
@@ -360,6 +361,26 @@ TEST(CrackSides, FieldMasksFollowTheReferenceParticleOfEachNode) {
   }
   EXPECT_GT(field1, 1000u);  // both sides really occur
   EXPECT_LT(skipped, checked / 10);
+}
+
+// Material flown far apart (the diverging events of a strong impact: particles 1e12 m from the rest,
+// finite but beyond any int node index) is refused before anything is allocated, with the grid it would
+// need, not by a failed allocation. The same for an extent within int range but above the memory limit.
+TEST(SolidGridRebuild, MaterialFlownFarApartIsRefusedBeforeAllocating) {
+  SolidGrid g(0.01);
+  for (double far : {1e12, 50.0}) {
+    const std::vector<GVec3> x = {GVec3(0, 0, 0), GVec3(0.01, 0.0, 0.0), GVec3(far, -far, far)};
+    try {
+      g.rebuild(x.data(), x.size(), {}, true, size_t{1} << 30);
+      ADD_FAILURE() << "a grid spanning " << far << " m was built";
+    } catch (const NumericalError& e) {
+      EXPECT_NE(std::string(e.what()).find("material has flown far apart"), std::string::npos) << e.what();
+    }
+  }
+  // A grid that fits is still built after a refusal.
+  const std::vector<GVec3> near = {GVec3(0, 0, 0), GVec3(0.05, 0.02, 0.01)};
+  g.rebuild(near.data(), near.size(), {}, false, size_t{1} << 30);
+  EXPECT_EQ(g.dims(), Eigen::Vector3i(8, 5, 4));
 }
 
 }  // namespace
