@@ -16,6 +16,7 @@ all frames and its frame, the largest strand area of any frame, mls_failures, an
 of the run. Standard library only.
 """
 import argparse
+import copy
 import glob
 import json
 import os
@@ -99,22 +100,21 @@ def main():
             set_key(scene, key.split("."), parse_value(value))
         if base in ends:
             scene["time"]["end"] = ends[base]
-        for factor in factors or [None]:
-            variant = json.loads(json.dumps(scene))
-            if factor is not None:
-                if not scale_strength(variant, factor):
-                    if factor != factors[0]:
-                        continue  # nothing to scale: one run of the scene is enough
-                    factor = None
-            runs.append((base if factor is None else "%s@%g" % (base, factor), variant))
+        if not factors or not scale_strength(copy.deepcopy(scene), 1.0):  # nothing to scale: one run
+            runs.append((base, scene))
+            continue
+        for factor in factors:
+            variant = copy.deepcopy(scene)
+            scale_strength(variant, factor)
+            runs.append(("%s@%g" % (base, factor), variant))
     for name, scene in runs:
         out_dir = os.path.join(args.out, name)
-        copy = os.path.join(args.out, name + ".json")
-        with open(copy, "w") as f:
+        scene_copy = os.path.join(args.out, name + ".json")
+        with open(scene_copy, "w") as f:
             json.dump(scene, f, indent=1)
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
         t0 = time.time()
-        proc = subprocess.run([args.shellfrac, "run", copy, "--out", out_dir, "--threads", str(args.threads)],
+        proc = subprocess.run([args.shellfrac, "run", scene_copy, "--out", out_dir, "--threads", str(args.threads)],
                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         wall = time.time() - t0
         after = resource.getrusage(resource.RUSAGE_CHILDREN)

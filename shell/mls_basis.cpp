@@ -133,15 +133,11 @@ double weight_reach(const Eigen::Vector2d& xi, double pu, double pv, double tu, 
   const Eigen::Vector2d e((pu - xi.x()) / cell_u, (pv - xi.y()) / cell_v);
   const double plain = e.cwiseAbs().maxCoeff();
   if (std::isnan(tu)) return plain;
-  // The stretch f of diffracted_weight, in cell units: g, and chi with the fade radius in cells, are the
-  // same at every support size.
+  // diffracted_weight's stretch f is the same at every support size, so it is taken in cell units (where
+  // the fade radius is tip.radius itself); only its value is used here.
   const Eigen::Vector2d r((xi.x() - tu) / cell_u, (xi.y() - tv) / cell_v);
-  const double s0 = e.norm(), s2 = r.norm();
-  if (!(s0 > 0.0 && s2 > 0.0)) return plain;
   const double s1 = Eigen::Vector2d((pu - tu) / cell_u, (pv - tv) / cell_v).norm();
-  const double g = std::max(1.0, (s1 + s2) / s0);
-  const double chi = tip.radius > 0.0 ? s2 * s2 / (s2 * s2 + tip.radius * tip.radius) : 1.0;
-  return (1.0 + (std::pow(g, tip.lambda) - 1.0) * chi) * plain;
+  return diffracted_weight(e, r, s1, tip.lambda, tip.radius).stretch * plain;
 }
 
 }  // namespace detail
