@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -65,6 +66,14 @@ Mat3d damage_step(const Mat3d& F, double rest_volume, double mu, double lambda, 
     if (l[i] > 0) l[i] *= keep;  // Eq. 2.29-2.30: tensile part only
   const Mat3d& q = eig.eigenvectors();
   return (rest_volume * J) * (q * l.asDiagonal() * q.transpose());  // V^0 J sigma (Eq. 2.31)
+}
+
+bool limit_stretch(Mat3d& F, double limit) {
+  const Eigen::JacobiSVD<Mat3d> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::Vector3d s = svd.singularValues();  // decreasing
+  if (!(s[0] > limit) && !(s[2] * limit < 1.0)) return false;
+  F = svd.matrixU() * s.cwiseMin(limit).cwiseMax(1.0 / limit).asDiagonal() * svd.matrixV().transpose();
+  return true;
 }
 
 }  // namespace shellfrac::brittle

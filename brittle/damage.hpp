@@ -43,4 +43,9 @@ Mat3d damage_step(const Mat3d& F, double rest_volume, double mu, double lambda, 
                   double brittleness, DamageRule rule, double residual_stiffness, double time,
                   ParticleDamage& state);
 
+// Clamps the principal stretches of F into [1 / limit, limit] (F changed in place, its rotations kept);
+// true if any was outside. Used on fully damaged particles (BrittleMaterial::broken_stretch_limit): with
+// no tensile stress left, nothing else stops their stretch from growing without bound.
+bool limit_stretch(Mat3d& F, double limit);
+
 }  // namespace shellfrac::brittle

@@ -31,6 +31,10 @@ struct BrittleMaterial {
   // Rankine only: the share r of its tensile stress a fully damaged particle keeps (tensile principal
   // stresses scaled by 1 - (1 - r) c instead of the thesis's 1 - c, Eq. 2.30). 0 is the thesis.
   double residual_stiffness = 0;
+  // Rankine only: once its damage has reached 1 a particle's principal stretches are kept within
+  // [1 / limit, limit] (limit_stretch, every step before damage_step); 0 leaves them unbounded, as the
+  // thesis does (the default: docs/brittle.md, "Fully damaged particles").
+  double broken_stretch_limit = 0.0;
   DamageModel model = DamageModel::Rankine;
   // l_ch [m]; 0 means the grid-cell diagonal sqrt(3) h the thesis uses (sec. 2.3.1, Table 3.3 caption).
   double characteristic_length = 0;

@@ -1,5 +1,6 @@
 #include "brittle/solver.hpp"
 
+#include <Eigen/SVD>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
@@ -284,6 +285,7 @@ void BrittleSolver::stage_damage() {
   const bool damage = options_.damage;
   const bool nacc = solid_.material.model == DamageModel::Nacc;
   const double now = time_;
+  const double stretch_limit = solid_.material.broken_stretch_limit;
   // The first bad particle (inverted or non-finite F) in index order, for the error message.
   const size_t bad = tbb::parallel_reduce(
       tbb::blocked_range<size_t>(0, n, 2048), std::numeric_limits<size_t>::max(),
@@ -302,11 +304,13 @@ void BrittleSolver::stage_damage() {
             phase_field_stress(p);
           } else if (nacc && damage) {
             nacc_stress(p);
-          } else if (damage)
+          } else if (damage) {
+            // A fully damaged particle has no tensile stress to stop its stretch: bound it (docs/brittle.md).
+            if (stretch_limit > 0 && solid_.damage[p].c_his >= 1.0) limit_stretch(q.F[p], stretch_limit);
             q.stress[p] = damage_step(F, q.volume[p], mu, lambda, solid_.failure_stress[p], solid_.brittleness[p], rule,
                                       solid_.material.residual_stiffness, now,
                                       solid_.damage[p]);
-          else
+          } else
             q.stress[p] = q.volume[p] * neo_hookean_kirchhoff(F, mu, lambda);
         }
         return first_bad;
@@ -316,7 +320,10 @@ void BrittleSolver::stage_damage() {
     std::ostringstream m;
     m << "particle " << bad << " (rest position " << solid_.rest[bad].transpose() << ") inverted or diverged at step "
       << steps_ << " (det F = " << q.F[bad].determinant() << ", damage " << solid_.damage[bad].c << ", largest damage "
-      << solid_.damage[bad].c_his << "); lower the time step (cfl) or the loading";
+      << solid_.damage[bad].c_his;
+    if (q.F[bad].allFinite())  // the stretches tell a slow runaway (huge) from one bad step (a flip)
+      m << ", principal stretches " << Eigen::JacobiSVD<Mat3>(q.F[bad]).singularValues().transpose();
+    m << "); lower the time step (cfl) or the loading";
     throw NumericalError(m.str());
   }
   if (nacc && damage) {

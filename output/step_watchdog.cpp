@@ -1,6 +1,7 @@
 #include "output/step_watchdog.hpp"
 
 #include <cmath>
+#include <utility>
 
 #include "core/format.hpp"
 
@@ -25,14 +26,21 @@ void StepWatchdog::record(double time, int frame, int last_frame, long steps, Ac
   last_frame_ = last_frame;
   steps_ = steps;
   next_ = next;
+  detail_.clear();
   since_ = std::chrono::steady_clock::now();
+}
+
+void StepWatchdog::record_detail(std::string detail) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  detail_ = std::move(detail);
 }
 
 std::string StepWatchdog::describe(double busy_seconds) const {
   if (next_ == Activity::setting_up) return "setting up the simulation, running for " + core::format_duration(busy_seconds);
   std::string s = "frame " + std::to_string(frame_) + "/" + std::to_string(last_frame_) + ", step " + std::to_string(steps_) + "; ";
   s += next_ == Activity::stepping ? "step " + std::to_string(steps_ + 1) : "writing frame " + std::to_string(frame_);
-  return s + " running for " + core::format_duration(busy_seconds);
+  s += " running for " + core::format_duration(busy_seconds);
+  return detail_.empty() ? s : s + " (" + detail_ + ")";
 }
 
 void StepWatchdog::watch() {

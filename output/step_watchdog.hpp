@@ -29,9 +29,12 @@ class StepWatchdog {
   // next (building the simulation, a step towards `frame`, or writing `frame`). Cheap: a lock and a few
   // stores.
   void record(double time, int frame, int last_frame, long steps, Activity next);
+  // What the current step is doing inside (a fracture event's MPM run); shown after the step's line until
+  // the next record(). Does not restart the step's clock.
+  void record_detail(std::string detail);
 
   // The line the watchdog prints for the recorded state, `busy_seconds` into the current activity
-  // ("frame 3/10, step 57; step 58 running for 12 s").
+  // ("frame 3/10, step 57; step 58 running for 12 s", then the detail in parentheses).
   std::string describe(double busy_seconds) const;
 
  private:
@@ -46,6 +49,7 @@ class StepWatchdog {
   int frame_ = 0, last_frame_ = 0;
   long steps_ = 0;
   Activity next_ = Activity::setting_up;
+  std::string detail_;
   std::chrono::steady_clock::time_point since_;
   std::thread thread_;  // last: started once everything above is set
 };

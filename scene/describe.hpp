@@ -184,6 +184,7 @@ void describe(V& v, SolidMaterial& m) {
   v.choice("damage_rule", m.damage_rule, {"healing", "monotone"});
   v.number("characteristic_length", m.characteristic_length, Range::positive());
   v.number("residual_stiffness", m.residual_stiffness, Range::closed(0.0, 0.1));
+  v.choice("fully_damaged", m.fully_damaged, {"bounded", "tensionless"});
   v.object("phase_field", m.phase_field);
   v.object("nacc", m.nacc);
   const bool phase_field = m.damage_model == "phase_field", nacc = m.damage_model == "nacc";
@@ -194,15 +195,18 @@ void describe(V& v, SolidMaterial& m) {
   });
   v.check("nacc", [&] { return !nacc && m.nacc ? "\"nacc\" is only for damage_model \"nacc\"" : ""; });
   v.check("damage_rule", [&] {
-    return phase_field && (m.damage_rule || m.characteristic_length || m.failure_stress || m.residual_stiffness)
-               ? "failure_stress, damage_rule, characteristic_length and residual_stiffness are Rankine keys; the "
+    return phase_field && (m.damage_rule || m.characteristic_length || m.failure_stress || m.residual_stiffness ||
+                           m.fully_damaged)
+               ? "failure_stress, damage_rule, characteristic_length, residual_stiffness and fully_damaged are Rankine "
+                 "keys; the "
                  "phase field has none (its residual is material.phase_field.residual)"
                : "";
   });
   v.check("damage_rule", [&] {
     return nacc && (m.damage_rule || m.characteristic_length || m.failure_stress || m.fracture_energy ||
-                    m.residual_stiffness)
-               ? "failure_stress, fracture_energy, damage_rule, characteristic_length and residual_stiffness are Rankine "
+                    m.residual_stiffness || m.fully_damaged)
+               ? "failure_stress, fracture_energy, damage_rule, characteristic_length, residual_stiffness and "
+                 "fully_damaged are Rankine "
                  "and phase-field "
                  "keys; NACC breaks by the softening its \"nacc\" parameters set"
                : "";

@@ -7,6 +7,7 @@
 // 3.3-3.5), and the fragments replace it in the rigid world with its rigid velocity field. An event that
 // fails numerically is reported and the body goes on unbroken.
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -88,7 +89,7 @@ struct EventRecord {
   std::string body;
   std::string partner;   // what hit it ("ground", a prop, a projectile, another piece)
   int generation = 0;
-  std::string outcome;   // "broken", "intact" (the crack did not separate it), "failed"
+  std::string outcome;   // "broken", "intact" (the crack did not separate it), "failed", "interrupted"
   std::string message;   // why it failed
   bool breakage_order = false;  // cut along the damage time (the body was shattered through)
   double impulse = 0, contact_time = 0, approach_speed = 0;
@@ -100,6 +101,21 @@ struct EventRecord {
   // relative errors of the fragments against the parent (thesis sec. 3.6.1 bookkeeping)
   double mass_error = 0, momentum_error = 0, angular_momentum_error = 0, energy_ratio = 1, volume_change = 0;
 };
+
+// How far the MPM run of a fracture event has come, after one of its steps.
+struct EventProgress {
+  const std::string& body;
+  size_t steps = 0;        // MPM steps taken
+  double time = 0;         // MPM time reached [s]
+  double end_time = 0;     // the most it runs: contact_times x t_c, or the solid's own stop.max_time
+  size_t damaged = 0, particles = 0;
+};
+
+// Called after every MPM step of a fracture event, on the thread that steps the loop (the loop does no
+// I/O: the run driver reports progress through it). Returning false abandons the event: it is recorded
+// with outcome "interrupted" and the body goes on unbroken; events that follow in the same call are
+// abandoned at their first step if the observer keeps saying so.
+using EventObserver = std::function<bool(const EventProgress&)>;
 
 struct ShatterTotals {
   size_t rigid_steps = 0, mpm_steps = 0, events = 0, broken = 0, failed = 0;
@@ -144,6 +160,7 @@ class ShatterLoop {
   rigid::Pose world_from_material(size_t piece) const;
   brittle::TriMesh world_mesh(size_t piece) const;
   const std::vector<EventRecord>& events() const { return events_; }
+  void set_event_observer(EventObserver observer) { observer_ = std::move(observer); }
   const ShatterTotals& totals() const { return totals_; }
   rigid::RigidWorld& world() { return world_; }
   const rigid::RigidWorld& world() const { return world_; }
@@ -176,6 +193,7 @@ class ShatterLoop {
   int ground_id_ = -1;
   std::vector<EventRecord> events_;
   ShatterTotals totals_;
+  EventObserver observer_;
   double time_ = 0;
 };
 

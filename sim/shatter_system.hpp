@@ -5,6 +5,7 @@
 // solids) two ways (thesis sec. 4.10.7): each is a moving sphere collider on the grid and the particles,
 // and the momentum it gives the material is taken from it before the rigid world steps on. No I/O here.
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "mpm/colliders.hpp"
@@ -20,6 +21,9 @@ class ShatterSystem {
   // Rigid steps (at the scene's rigid dt) until the loop reaches t.
   void advance_to(double t);
   const shatter::ShatterLoop& loop() const { return *loop_; }
+  void set_event_observer(shatter::EventObserver observer) {
+    if (loop_) loop_->set_event_observer(std::move(observer));
+  }
 
   // Projectiles as colliders of the MPM grid at time t: the sphere where the rigid world last put it,
   // moved on at its current velocity to t, as a collider whose pose is the identity at time 0 (pass

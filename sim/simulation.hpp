@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <functional>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "core/error.hpp"
@@ -114,6 +115,8 @@ class Simulation {
   const BrittleSystem& brittle() const { return brittle_; }
   // The shatter loop of the brittle solids with "rigid_body" (docs/brittle.md); empty() without them.
   const ShatterSystem& shatter() const { return shatter_; }
+  // Sees every MPM step of the shatter loop's fracture events and may abandon one (shatter::EventObserver).
+  void set_event_observer(shatter::EventObserver observer) { shatter_.set_event_observer(std::move(observer)); }
   // Fracture events for the brittle solids still running (called by the run driver at the scene's end).
   void finish_brittle() { brittle_.finish_running(); }
   // True when the scene holds only brittle solids and all of them have had their fracture event.

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <string>
 
 #include "brittle/phase_field.hpp"
 #include "scene/build.hpp"
@@ -49,6 +50,22 @@ TEST(BrittleSceneKeys, NotchedBeamBuildsItsBrittleBody) {
   EXPECT_DOUBLE_EQ(b.sliver_volume, 0.005 * 0.005 * 0.005);  // default: one MPM cell
   EXPECT_EQ(m.colliders.size(), 3u);
   EXPECT_EQ(b.solid->material.residual_stiffness, 0.0);  // the thesis's Eq. 2.30 unless the scene says
+  EXPECT_EQ(b.solid->material.broken_stretch_limit, 0.0);  // unbounded, as in the thesis, unless the scene says
+}
+
+TEST(BrittleSceneKeys, FullyDamagedChoosesABoundedStretchOrTheThesisUnboundedOne) {
+  Scene s = load_scene(brittle_scene("notched-beam").string());
+  s.solids[0].material->fully_damaged = "tensionless";
+  EXPECT_EQ(build(s).brittle_solids[0].solid->material.broken_stretch_limit, 0.0);
+  s.solids[0].material->fully_damaged = "bounded";
+  EXPECT_EQ(build(s).brittle_solids[0].solid->material.broken_stretch_limit, 3.0);
+  s.solids[0].material->fully_damaged = "dust";
+  try {
+    build(s);
+    ADD_FAILURE() << "fully_damaged \"dust\" accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.json_path(), "/solids/0/material/fully_damaged");
+  }
 }
 
 TEST(BrittleSceneKeys, ResidualStiffnessReachesTheMaterialWithinItsRange) {

@@ -4,6 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
+#include <Eigen/SVD>
 #include <cmath>
 
 namespace shellfrac::brittle {
@@ -133,6 +134,20 @@ TEST(Damage, ResidualStiffnessKeepsItsShareOfTheTensileStress) {
   ASSERT_GT(part.c, 0.0);
   ASSERT_LT(part.c, 1.0);
   EXPECT_NEAR(P(0, 0), V * 1.01 * (1 - 0.95 * part.c) * s1, 1e-9 * V * s1);
+}
+
+TEST(Damage, StretchLimitCapsOnlyTheStretchAboveItAndKeepsTheRotations) {
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d Q = Eigen::AngleAxisd(-0.3, Eigen::Vector3d(0, 1, 0)).toRotationMatrix();
+  // A runaway: stretched 40x along one axis, squeezed to 0.2 across it, rotated on both sides.
+  Eigen::Matrix3d F = R * Eigen::Vector3d(40.0, 0.2, 1.0).asDiagonal() * Q;
+  EXPECT_TRUE(limit_stretch(F, 3.0));
+  EXPECT_LT((F - R * Eigen::Vector3d(3.0, 1.0 / 3.0, 1.0).asDiagonal() * Q).norm(), 1e-12);
+  // Below the limit nothing moves, bit for bit.
+  Eigen::Matrix3d G = R * Eigen::Vector3d(2.9, 0.35, 1.2).asDiagonal() * Q;
+  const Eigen::Matrix3d G0 = G;
+  EXPECT_FALSE(limit_stretch(G, 3.0));
+  EXPECT_EQ(G, G0);
 }
 
 }  // namespace

@@ -165,6 +165,9 @@ TEST(RunControl, WatchdogPrintsTheLastStateWhileAStepRuns) {
     StepWatchdog watchdog(progress, 0.01);
     watchdog.record(0.25, 3, 10, 57, StepWatchdog::Activity::stepping);
     for (int i = 0; i < 20000 && count(buffer.text(), "\n") < 3; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    watchdog.record_detail("fracture event of cube: MPM step 12");  // inside the same step
+    for (int i = 0; i < 20000 && count(buffer.text(), "(fracture event of cube: MPM step 12)") < 2; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
     watchdog.record(0.3, 3, 10, 58, StepWatchdog::Activity::writing_frame);
     for (int i = 0; i < 20000 && count(buffer.text(), "writing frame 3") < 1; ++i)
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -172,6 +175,16 @@ TEST(RunControl, WatchdogPrintsTheLastStateWhileAStepRuns) {
   const std::string text = buffer.text();
   EXPECT_GE(count(text, "frame 3/10, step 57; step 58 running for"), 3u) << text;
   EXPECT_GE(count(text, "frame 3/10, step 58; writing frame 3 running for"), 1u) << text;
+  // The detail follows the step's own line; the next record() ends it, so the frame's lines lack it.
+  std::istringstream lines_in(text);
+  size_t with_detail = 0;
+  for (std::string line; std::getline(lines_in, line);) {
+    if (line.find("(fracture event of cube: MPM step 12)") == std::string::npos) continue;
+    ++with_detail;
+    EXPECT_NE(line.find("step 58 running for"), std::string::npos) << line;
+    EXPECT_EQ(line.find("writing frame"), std::string::npos) << line;
+  }
+  EXPECT_GE(with_detail, 2u) << text;
   EXPECT_THAT(text, HasSubstr("progress  25.0% frame 3/10")) << text;  // the recorded simulated time
   // Stopped with the watchdog: nothing more is printed.
   const size_t lines = count(text, "\n");

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <vector>
 
 #include "brittle/primitives.hpp"
 #include "core/error.hpp"
@@ -214,6 +215,38 @@ TEST(ShatterLoop, TinyFragmentsNeverBreak) {
   const double until = loop->time() + 0.3;
   while (loop->time() < until) loop->step();
   EXPECT_EQ(loop->events().size(), 1u);
+}
+
+// The observer sees every MPM step of an event in order, and abandoning the event (Ctrl-C in the run
+// driver) leaves the body whole and flying, with the event recorded as interrupted after those steps.
+TEST(ShatterLoop, ObserverSeesEveryEventStepAndCanAbandonTheEvent) {
+  ShatterLoop loop(on_the_ground());
+  loop.add_breakable(cube(Vec3(0, 0, 1.3), 5.0));
+  std::vector<size_t> steps;
+  double end_time = 0, last_time = 0;
+  size_t particles = 0;
+  loop.set_event_observer([&](const EventProgress& e) {
+    EXPECT_EQ(e.body, "cube");
+    particles = e.particles;
+    steps.push_back(e.steps);
+    end_time = e.end_time;
+    last_time = e.time;
+    return e.steps < 7;
+  });
+  while (loop.time() < 0.6 && loop.events().empty()) loop.step();
+  ASSERT_EQ(loop.events().size(), 1u);
+  const EventRecord& r = loop.events()[0];
+  EXPECT_EQ(r.outcome, "interrupted");
+  EXPECT_EQ(r.mpm_steps, 7u);
+  EXPECT_EQ(particles, r.particles);
+  EXPECT_GT(particles, 0u);
+  EXPECT_EQ(steps, (std::vector<size_t>{1, 2, 3, 4, 5, 6, 7}));
+  EXPECT_NEAR(end_time, 3 * r.contact_time, 1e-12 * end_time);  // contact_times' default
+  EXPECT_GT(last_time, 0.0);
+  EXPECT_LT(last_time, end_time);
+  EXPECT_TRUE(loop.alive(0));
+  EXPECT_EQ(loop.totals().broken, 0u);
+  EXPECT_EQ(loop.totals().failed, 0u);
 }
 
 TEST(ShatterLoop, BadSpecsAreRefused) {
