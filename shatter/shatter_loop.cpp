@@ -304,27 +304,24 @@ void ShatterLoop::fracture(size_t index, const BodyImpact& impact) {
     brittle::BrittleSolver solver(solid, so);
     solver.add_ghosts(ghosts);
     const size_t interval = static_cast<size_t>(std::max(root.crack_interval, 1));
-    while (!solver.should_stop()) {
+    bool abandoned = false;
+    while (!solver.should_stop() && !abandoned) {
       solver.step();
       if (so.two_fields && solver.steps() % interval == 0 && solver.damaged_count() > 0)
         solver.update_crack(root.event.crack);
-      if (observer_ && !observer_(EventProgress{p.name, solver.steps(), solver.time(), so.stop.max_time,
-                                                solver.damaged_count(), solid.size()})) {
-        r.outcome = "interrupted";
-        r.mpm_steps = solver.steps();
-        r.damaged_particles = solver.damaged_count();
-        r.seconds_mpm = seconds_since(t_mpm);
-        totals_.mpm_steps += r.mpm_steps;
-        totals_.seconds_mpm += r.seconds_mpm;
-        events_.push_back(r);
-        return;
-      }
+      abandoned = observer_ && !observer_(EventProgress{p.name, solver.steps(), solver.time(), so.stop.max_time,
+                                                        solver.damaged_count(), solid.size()});
     }
     r.mpm_steps = solver.steps();
     r.damaged_particles = solver.damaged_count();
     r.seconds_mpm = seconds_since(t_mpm);
     totals_.mpm_steps += r.mpm_steps;
     totals_.seconds_mpm += r.seconds_mpm;
+    if (abandoned) {
+      r.outcome = "interrupted";
+      events_.push_back(r);
+      return;
+    }
 
     brittle::FractureEventOptions eo = root.event;
     if (!(eo.density > 0)) eo.density = solid.material.density;
