@@ -35,6 +35,10 @@ struct BrittleMaterial {
   // [1 / limit, limit] (limit_stretch, every step before damage_step); 0 leaves them unbounded, as the
   // thesis does (the default: docs/brittle.md, "Fully damaged particles").
   double broken_stretch_limit = 0.0;
+  // Rankine only: a fully damaged particle whose every neighbour within one grid spacing (rest
+  // positions) is fully damaged too is rubble (RubbleFinder) and leaves the transfers: from then on it
+  // has no mass and no stress and follows the grid velocity. Off is the thesis (docs/brittle.md).
+  bool retire_rubble = false;
   DamageModel model = DamageModel::Rankine;
   // l_ch [m]; 0 means the grid-cell diagonal sqrt(3) h the thesis uses (sec. 2.3.1, Table 3.3 caption).
   double characteristic_length = 0;

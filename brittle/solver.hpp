@@ -10,6 +10,7 @@
 #include "brittle/crack_surface.hpp"
 #include "brittle/impact.hpp"
 #include "brittle/phase_field.hpp"
+#include "brittle/rubble.hpp"
 #include "brittle/solid_grid.hpp"
 #include "mpm/colliders.hpp"
 
@@ -87,6 +88,7 @@ class BrittleSolver {
   void add_collider(mpm::Collider collider) { colliders_.push_back(std::move(collider)); }
   // Adds the ghost particles of an impact (see impact_ghosts).
   void add_ghosts(const std::vector<GhostParticle>& ghosts);
+  const std::vector<GhostParticle>& ghosts() const { return ghosts_; }
   // Crack surface (material space) for the two velocity fields; an empty mesh returns to one field.
   void set_crack(const TriMesh& crack);
   // Crack extraction on demand (thesis sec. 3.3, every ten steps in sec. 3.8): extracts the crack from
@@ -109,6 +111,14 @@ class BrittleSolver {
   size_t steps() const { return steps_; }
   double dt() const { return dt_; }
   size_t damaged_count() const { return damaged_; }
+  // Particles taken out of the transfers as rubble (material.retire_rubble); 0 when that is off.
+  size_t rubble_count() const { return rubble_count_; }
+  bool is_rubble(size_t p) const { return rubble_count_ > 0 && rubble_[p]; }
+  // Ghost particles moved off rubble onto the nearest particle that is not (retire_rubble).
+  size_t reanchored_ghosts() const { return reanchored_ghosts_; }
+  // The momentum the rubble had when it left the transfers: momentum() plus this is the momentum the
+  // loads delivered.
+  Vec3 rubble_momentum() const { return rubble_momentum_; }
   double damaged_fraction() const;
   const SolverOptions& options() const { return options_; }
   const SolidGrid& grid() const { return grid_; }
@@ -121,7 +131,7 @@ class BrittleSolver {
   // c_p of the phase field (1 healthy, 0 broken); empty for Rankine damage.
   const std::vector<double>& phase() const { return pf_c_; }
   BrittleSolid& solid() { return solid_; }
-  // Total linear momentum sum m v of the particles.
+  // Total linear momentum sum m v of the particles that take part in the transfers (not rubble).
   Vec3 momentum() const;
   // Stable time step for the current state: cfl dx / (P-wave speed + largest particle speed).
   double stable_time_step() const;
@@ -133,6 +143,15 @@ class BrittleSolver {
   void phase_field_stress(size_t p);
   // NACC return mapping of particle p's F^E, its stress and damage from alpha.
   void nacc_stress(size_t p);
+  // Takes the particles that have become rubble out of the transfers (material.retire_rubble).
+  void retire_rubble();
+  // Moves ghosts anchored on rubble to the nearest particle that is not rubble.
+  void reanchor_ghosts();
+  // Puts rubble back where it was retired, at rest (after g2p moved it).
+  void hold_rubble();
+  const double* transfer_mass() const;
+  // Which particle has left the solid farthest, for the message of a grid that would not fit.
+  std::string farthest_particle() const;
   BrittleSolid& solid_;
   SolverOptions options_;
   SolidGrid grid_;
@@ -154,6 +173,15 @@ class BrittleSolver {
   // NACC: the branch each particle took in the last damage stage.
   std::vector<uint8_t> nacc_branch_;
   NaccTotals nacc_totals_;
+  // Rubble: the finder, the per-particle flag and the masses the transfers see (0 for rubble).
+  RubbleFinder rubble_finder_;
+  std::vector<uint8_t> rubble_, rubble_eligible_;
+  std::vector<double> transfer_mass_;
+  size_t rubble_count_ = 0;
+  std::vector<size_t> rubble_list_;  // rubble particles in the order they were retired
+  std::vector<Vec3> rubble_x_;       // and their positions then
+  size_t reanchored_ghosts_ = 0;
+  Vec3 rubble_momentum_ = Vec3::Zero();
 };
 
 }  // namespace shellfrac::brittle

@@ -227,7 +227,9 @@ model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t 
   mat.rule = sm.damage_rule == "monotone" ? brittle::DamageRule::Monotone : brittle::DamageRule::Healing;
   mat.characteristic_length = sm.characteristic_length.value_or(0.0);
   mat.residual_stiffness = sm.residual_stiffness.value_or(0.0);
-  if (sm.fully_damaged.value_or("tensionless") == "bounded") mat.broken_stretch_limit = 3.0;
+  const std::string fully_damaged = sm.fully_damaged.value_or("tensionless");
+  if (fully_damaged == "bounded") mat.broken_stretch_limit = 3.0;
+  mat.retire_rubble = fully_damaged == "rubble";
 
   // Particles: sampled in the mesh, minus the removed regions; particle volumes share the mesh volume.
   const brittle::Sampling sampling = s.sampling == "regular"        ? brittle::Sampling::Regular

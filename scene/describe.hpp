@@ -184,7 +184,7 @@ void describe(V& v, SolidMaterial& m) {
   v.choice("damage_rule", m.damage_rule, {"healing", "monotone"});
   v.number("characteristic_length", m.characteristic_length, Range::positive());
   v.number("residual_stiffness", m.residual_stiffness, Range::closed(0.0, 0.1));
-  v.choice("fully_damaged", m.fully_damaged, {"bounded", "tensionless"});
+  v.choice("fully_damaged", m.fully_damaged, {"bounded", "rubble", "tensionless"});
   v.object("phase_field", m.phase_field);
   v.object("nacc", m.nacc);
   const bool phase_field = m.damage_model == "phase_field", nacc = m.damage_model == "nacc";

@@ -134,7 +134,7 @@ struct SolidMaterial {
   Opt<std::string> damage_model;  // "rankine", "phase_field" or "nacc"
   Opt<double> failure_stress, fracture_energy, characteristic_length, residual_stiffness;
   Opt<std::string> damage_rule;  // "healing" or "monotone" (Rankine)
-  Opt<std::string> fully_damaged;  // "tensionless" (the thesis) or "bounded" (Rankine): stretch at c_his = 1
+  Opt<std::string> fully_damaged;  // Rankine, at c_his = 1: "tensionless" (the thesis), "bounded" or "rubble"
   Opt<PhaseFieldMaterial> phase_field;
   Opt<NaccMaterial> nacc;
 };

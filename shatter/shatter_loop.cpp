@@ -314,6 +314,7 @@ void ShatterLoop::fracture(size_t index, const BodyImpact& impact) {
     }
     r.mpm_steps = solver.steps();
     r.damaged_particles = solver.damaged_count();
+    r.rubble_particles = solver.rubble_count();
     r.seconds_mpm = seconds_since(t_mpm);
     totals_.mpm_steps += r.mpm_steps;
     totals_.seconds_mpm += r.seconds_mpm;

@@ -96,6 +96,7 @@ struct EventRecord {
   rigid::Vec3 point = rigid::Vec3::Zero();  // world
   rigid::BodyState parent;                  // the body's state after the rigid step that broke it
   size_t particles = 0, mpm_steps = 0, damaged_particles = 0, fragments = 0;
+  size_t rubble_particles = 0;  // taken out of the transfers (material.fully_damaged "rubble")
   size_t by_class[4] = {0, 0, 0, 0};  // fragments per FragmentClass
   double seconds_mpm = 0, seconds_extract = 0, seconds_cut = 0, seconds_spawn = 0;
   // relative errors of the fragments against the parent (thesis sec. 3.6.1 bookkeeping)

@@ -125,7 +125,7 @@ TEST(BrittleCli, EveryBrittleSceneValidates) {
     const Result r = shellfrac("validate " + e.path().string());
     EXPECT_EQ(r.exit_code, 0) << e.path() << "\n" << r.output;
   }
-  EXPECT_EQ(count, 9);
+  EXPECT_EQ(count, 10);
 }
 
 // Three-point bending of a notched beam: the crack runs from the notch through the height, so the beam

@@ -51,14 +51,17 @@ TEST(BrittleSceneKeys, NotchedBeamBuildsItsBrittleBody) {
   EXPECT_EQ(m.colliders.size(), 3u);
   EXPECT_EQ(b.solid->material.residual_stiffness, 0.0);  // the thesis's Eq. 2.30 unless the scene says
   EXPECT_EQ(b.solid->material.broken_stretch_limit, 0.0);  // unbounded, as in the thesis, unless the scene says
+  EXPECT_FALSE(b.solid->material.retire_rubble);
 }
 
-TEST(BrittleSceneKeys, FullyDamagedChoosesABoundedStretchOrTheThesisUnboundedOne) {
+TEST(BrittleSceneKeys, FullyDamagedChoosesTheThesisABoundedStretchOrRetiredRubble) {
   Scene s = load_scene(brittle_scene("notched-beam").string());
-  s.solids[0].material->fully_damaged = "tensionless";
-  EXPECT_EQ(build(s).brittle_solids[0].solid->material.broken_stretch_limit, 0.0);
-  s.solids[0].material->fully_damaged = "bounded";
-  EXPECT_EQ(build(s).brittle_solids[0].solid->material.broken_stretch_limit, 3.0);
+  for (const std::string mode : {"tensionless", "bounded", "rubble"}) {
+    s.solids[0].material->fully_damaged = mode;
+    const brittle::BrittleMaterial m = build(s).brittle_solids[0].solid->material;
+    EXPECT_EQ(m.broken_stretch_limit, mode == "bounded" ? 3.0 : 0.0) << mode;
+    EXPECT_EQ(m.retire_rubble, mode == "rubble") << mode;
+  }
   s.solids[0].material->fully_damaged = "dust";
   try {
     build(s);
