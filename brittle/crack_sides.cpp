@@ -31,9 +31,17 @@ void CrackSides::set_crack(const TriMesh& crack, const std::vector<Vec3>& rest, 
   const Eigen::Vector3i base = (lo / spacing).array().floor().cast<int>();
   const Eigen::Vector3i dims = Eigen::Vector3i((hi / spacing).array().floor().cast<int>()) - base + Eigen::Vector3i::Constant(2);
   const size_t nodes = static_cast<size_t>(dims.x()) * dims.y() * dims.z();
+  auto node_of = [&](const Vec3& x) {
+    const Eigen::Vector3i c = Eigen::Vector3i((x / spacing).array().round().cast<int>()) - base;
+    return static_cast<size_t>(c.x() + dims.x() * (c.y() + static_cast<long>(dims.y()) * c.z()));
+  };
+  // Only the nodes some particle reads: most of a statue's bounding box is outside it.
+  std::vector<uint8_t> used(nodes, 0);
+  for (const Vec3& x : rest) used[node_of(x)] = 1;
   std::vector<TriangleIndex::Hit> hit(nodes);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, nodes, 256), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t n = r.begin(); n != r.end(); ++n) {
+      if (!used[n]) continue;
       const long i = static_cast<long>(n) % dims.x(), j = (static_cast<long>(n) / dims.x()) % dims.y(),
                  k = static_cast<long>(n) / (static_cast<long>(dims.x()) * dims.y());
       hit[n] = index.closest(Vec3(static_cast<double>(base.x() + i), static_cast<double>(base.y() + j), static_cast<double>(base.z() + k)) * spacing,
@@ -67,9 +75,7 @@ void CrackSides::set_crack(const TriMesh& crack, const std::vector<Vec3>& rest, 
     return false;
   };
   for (size_t p = 0; p < n; ++p) {
-    const Eigen::Vector3i c = Eigen::Vector3i((rest[p] / spacing).array().round().cast<int>()) - base;
-    const size_t node = static_cast<size_t>(c.x() + dims.x() * (c.y() + static_cast<long>(dims.y()) * c.z()));
-    const TriangleIndex::Hit& h = hit[node];
+    const TriangleIndex::Hit& h = hit[node_of(rest[p])];
     if (!h.found) continue;
     const Vec3 offset = rest[p] - h.point;
     const Vec3& face = index.triangle_normal(h.triangle);

@@ -113,6 +113,7 @@ void BrittleSolver::add_ghosts(const std::vector<GhostParticle>& ghosts) {
 
 void BrittleSolver::set_crack(const TriMesh& crack) {
   Timer t(times_.cracks);
+  crack_extracted_ = false;  // a crack from elsewhere: the next update_crack extracts again
   if (!options_.two_fields || crack.triangles.empty()) {
     sides_.clear();
     return;
@@ -120,14 +121,21 @@ void BrittleSolver::set_crack(const TriMesh& crack) {
   sides_.set_crack(crack, solid_.rest, crack_radius(), options_.dx);
 }
 
-CrackExtraction BrittleSolver::update_crack(const CrackExtractionOptions& options) {
-  CrackExtraction crack;
+const CrackExtraction& BrittleSolver::update_crack(const CrackExtractionOptions& options) {
   {
     Timer t(times_.cracks);
-    if (solid_.count_damaged(options.grid.damage_threshold) > 0) crack = extract_crack(solid_.rest, solid_.damage_history(), options);
+    // The extraction is a function of the rest positions and the damage history alone: once damage has
+    // stopped growing (most of a long event) the same crack would be extracted again.
+    std::vector<double> history = solid_.damage_history();
+    if (crack_extracted_ && history == crack_history_) return crack_;
+    crack_ = CrackExtraction();
+    ++crack_extractions_;
+    if (solid_.count_damaged(options.grid.damage_threshold) > 0) crack_ = extract_crack(solid_.rest, history, options);
+    crack_history_ = std::move(history);
   }
-  set_crack(crack_surface_mesh(crack));
-  return crack;
+  set_crack(crack_surface_mesh(crack_));
+  crack_extracted_ = true;
+  return crack_;
 }
 
 double BrittleSolver::damaged_fraction() const {

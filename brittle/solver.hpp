@@ -93,7 +93,10 @@ class BrittleSolver {
   void set_crack(const TriMesh& crack);
   // Crack extraction on demand (thesis sec. 3.3, every ten steps in sec. 3.8): extracts the crack from
   // the current damage history and hands it to set_crack. Timed as the "cracks" stage.
-  CrackExtraction update_crack(const CrackExtractionOptions& options);
+  // Skipped (the last result returned) while the damage history is the one of the last extraction; callers
+  // pass the same options every time.
+  const CrackExtraction& update_crack(const CrackExtractionOptions& options);
+  size_t crack_extractions() const { return crack_extractions_; }  // update_crack calls that extracted
   double crack_radius() const;  // material distance within which particles are classified
 
   void step();
@@ -182,6 +185,11 @@ class BrittleSolver {
   std::vector<Vec3> rubble_x_;       // and their positions then
   size_t reanchored_ghosts_ = 0;
   Vec3 rubble_momentum_ = Vec3::Zero();
+  // The last crack update: its extraction and the damage history it was extracted from.
+  CrackExtraction crack_;
+  std::vector<double> crack_history_;
+  bool crack_extracted_ = false;
+  size_t crack_extractions_ = 0;
 };
 
 }  // namespace shellfrac::brittle

@@ -102,7 +102,7 @@ Json shatter_json(const shatter::ShatterLoop& loop, const std::vector<std::strin
               {"fragments", e.fragments},
               {"fragments_by_class", {{"tiny", e.by_class[0]}, {"small", e.by_class[1]}, {"large", e.by_class[2]},
                                       {"nearly_whole", e.by_class[3]}}},
-              {"seconds", {{"mpm", e.seconds_mpm}, {"extract", e.seconds_extract}, {"cut", e.seconds_cut},
+              {"seconds", {{"mpm", e.seconds_mpm}, {"mpm_crack_updates", e.seconds_mpm_cracks}, {"extract", e.seconds_extract}, {"cut", e.seconds_cut},
                            {"spawn", e.seconds_spawn}}},
               {"conservation", {{"mass", e.mass_error}, {"momentum", e.momentum_error},
                                 {"angular_momentum", e.angular_momentum_error}, {"kinetic_energy_ratio", e.energy_ratio},

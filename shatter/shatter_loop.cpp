@@ -316,6 +316,7 @@ void ShatterLoop::fracture(size_t index, const BodyImpact& impact) {
     r.damaged_particles = solver.damaged_count();
     r.rubble_particles = solver.rubble_count();
     r.seconds_mpm = seconds_since(t_mpm);
+    r.seconds_mpm_cracks = solver.times().cracks;
     totals_.mpm_steps += r.mpm_steps;
     totals_.seconds_mpm += r.seconds_mpm;
     if (abandoned) {

@@ -99,6 +99,7 @@ struct EventRecord {
   size_t rubble_particles = 0;  // taken out of the transfers (material.fully_damaged "rubble")
   size_t by_class[4] = {0, 0, 0, 0};  // fragments per FragmentClass
   double seconds_mpm = 0, seconds_extract = 0, seconds_cut = 0, seconds_spawn = 0;
+  double seconds_mpm_cracks = 0;  // of seconds_mpm: the crack updates for the two fields every crack_interval steps
   // relative errors of the fragments against the parent (thesis sec. 3.6.1 bookkeeping)
   double mass_error = 0, momentum_error = 0, angular_momentum_error = 0, energy_ratio = 1, volume_change = 0;
 };

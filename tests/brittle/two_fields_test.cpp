@@ -129,3 +129,42 @@ TEST(Solver, FreeBlockTranslatesRigidly) {
 
 }  // namespace
 }  // namespace shellfrac::brittle
+
+namespace shellfrac::brittle {
+namespace {
+
+// update_crack extracts only when the damage history changed since the last extraction; the crack it
+// then hands back is the one a fresh extraction of the same history gives (the node sets and the faces).
+TEST(TwoFields, CrackUpdateIsSkippedWhileTheDamageHistoryIsUnchanged) {
+  BrittleSolid solid = testing::lattice_box(Vec3::Zero(), Vec3::Constant(0.05), 0.005, testing::soft_material(), 0.01);
+  for (size_t p = 0; p < solid.size(); ++p)
+    if (std::abs(solid.rest[p].z()) < 0.005 && solid.rest[p].x() < 0.02) solid.damage[p].c = solid.damage[p].c_his = 1.0;
+  CrackExtractionOptions o;
+  o.grid.spacing = 0.01;
+  SolverOptions so;
+  so.dx = 0.01;
+  BrittleSolver solver(solid, so);
+  const CrackExtraction first = solver.update_crack(o);
+  ASSERT_FALSE(first.empty());
+  solver.update_crack(o);
+  EXPECT_EQ(solver.crack_extractions(), 1u);
+  // More damage: extracted again, and equal to a fresh extraction of the new history.
+  for (size_t p = 0; p < solid.size(); ++p)
+    if (std::abs(solid.rest[p].z()) < 0.005) solid.damage[p].c = solid.damage[p].c_his = 1.0;
+  const CrackExtraction& second = solver.update_crack(o);
+  EXPECT_EQ(solver.crack_extractions(), 2u);
+  const CrackExtraction fresh = extract_crack(solid.rest, solid.damage_history(), o);
+  EXPECT_GT(second.count_D, first.count_D);
+  EXPECT_EQ(second.count_D, fresh.count_D);
+  EXPECT_EQ(second.interior_faces, fresh.interior_faces);
+  EXPECT_EQ(second.extension_faces, fresh.extension_faces);
+  EXPECT_EQ(second.crack_face, fresh.crack_face);
+  // A crack set from elsewhere is replaced by the next update even with the history unchanged.
+  solver.set_crack(TriMesh());
+  solver.update_crack(o);
+  EXPECT_EQ(solver.crack_extractions(), 3u);
+  EXPECT_TRUE(solver.sides().active());
+}
+
+}  // namespace
+}  // namespace shellfrac::brittle
