@@ -89,6 +89,7 @@ Model build(const Scene& input) {
                       : cracking == "adaptive_then_apic" ? Cracking::AdaptiveThenApic
                       : cracking == "adaptive_then_pic"  ? Cracking::AdaptiveThenPic
                       : cracking == "rpic_while_damaged" ? Cracking::RpicWhileDamaged
+                      : cracking == "pic_where_damaged"  ? Cracking::PicWhereDamaged
                                                          : Cracking::PicWhileDamaged;
     // With cracking_shells "pic" and every shell able to crack, the whole scene is PIC, exactly as
     // "transfer": "pic".

@@ -218,9 +218,19 @@ struct GridSettings {
   //  - AdaptiveThenPic: the adaptive transfer until damage or a crack first appears on the shell; from
   //    then on PIC for all of its particles.
   //  - AdaptiveThenApic: the same, but APIC (share 0, affine velocity kept) once damaged.
+  //  - PicWhereDamaged: the adaptive transfer, but the particles whose support holds a damaged point run
+  //    PIC (share 0, affine velocity dropped after every g2p); the rest of the shell keeps its shares.
   //  - Adaptive: the adaptive transfer throughout.
   //  - Pic: PIC throughout, with half of each cell's mass on its shear particles (the rule before).
-  enum class CrackingShells { PicWhileDamaged, RpicWhileDamaged, AdaptiveThenPic, AdaptiveThenApic, Adaptive, Pic };
+  enum class CrackingShells {
+    PicWhileDamaged,
+    RpicWhileDamaged,
+    PicWhereDamaged,
+    AdaptiveThenPic,
+    AdaptiveThenApic,
+    Adaptive,
+    Pic
+  };
   CrackingShells cracking = CrackingShells::PicWhileDamaged;
   // Adaptive transfer only: whether shell s runs it (false: PIC for that shell's particles).
   bool adaptive_shell(const Shell& s) const {
@@ -235,6 +245,12 @@ struct GridSettings {
   bool pic_while_damaged(const Shell& s) const {
     return adaptive && s.can_crack() &&
            (cracking == CrackingShells::PicWhileDamaged || cracking == CrackingShells::RpicWhileDamaged);
+  }
+  // Adaptive transfer only: whether the particles beside damage on shell s run PIC while the rest keeps
+  // the adaptive shares.
+  bool pic_where_damaged(const Shell& s) const {
+    return adaptive && s.can_crack() &&
+           cracking == CrackingShells::PicWhereDamaged;
   }
 };
 

@@ -250,6 +250,7 @@ void Simulation::stage_g2p(double dt) {
     for (mpm::ParticleSet& s : world_.particle_sets()) s.flip = model_.grid.flip * keep;
   }
   grid_.transfer_to_particles(world_.particle_sets(), dt);
+  if (model_.grid.adaptive) shares_.drop_damaged_affine(world_);
   pins_.hold_velocities(world_, dt, time_ + dt);
   seams_.save_start_positions(world_);
   for (size_t i = 0; i < world_.num_shells(); ++i) {

@@ -22,11 +22,16 @@ void TransferShares::attach(World& world, const scene::Model& model) {
   turns_.assign(world.num_shells(), 0);
   while_damaged_.assign(world.num_shells(), 0);
   turned_.assign(world.num_shells(), 0);
+  where_damaged_.assign(world.num_shells(), 0);
+  damaged_control_.assign(world.num_shells(), {});
+  damaged_shear_.assign(world.num_shells(), {});
   for (size_t i = 0; i < world.num_shells() && i < model.shells.size(); ++i) {
     pic_shell_[i] = !model.grid.adaptive_shell(model.shells[i]);
     turns_[i] = model.grid.turns_once_damaged(model.shells[i]);
     while_damaged_[i] = model.grid.pic_while_damaged(model.shells[i]);
+    where_damaged_[i] = model.grid.pic_where_damaged(model.shells[i]);
   }
+
   turn_to_pic_ = model.grid.cracking != scene::model::GridSettings::CrackingShells::AdaptiveThenApic;
   damaged_rigid_ = model.grid.cracking == scene::model::GridSettings::CrackingShells::RpicWhileDamaged;
   // Shells joined by coupled seams, directly or through others, share one group (the smallest index).
@@ -151,25 +156,47 @@ void TransferShares::update(World& world, double intact, double active, const st
     // the plain NURBS basis (a crack runs through its support).
     cell_active_.assign(patch.num_cells(), 0);
     for (size_t q = 0; q < patch.num_inplane_points(); ++q) {
-      bool hit = patch.point_level(q) != shell::BasisLevel::Nurbs;
-      for (size_t l = 0; l < layers && !hit; ++l) {
+      unsigned char hit = patch.point_level(q) != shell::BasisLevel::Nurbs;
+      for (size_t l = 0; l < layers && hit < 2; ++l) {
         const size_t k = q * layers + l;
-        hit = (!damage.empty() && damage[k] > 0) || (!plastic.empty() && plastic[k] > 0);
+        if (!damage.empty() && damage[k] > 0) hit = 2;
+        else if (!plastic.empty() && plastic[k] > 0) hit = 1;
       }
-      if (hit) cell_active_[patch.cell_of(q)] = 1;
+      unsigned char& cell = cell_active_[patch.cell_of(q)];
+      cell = std::max(cell, hit);
     }
     const std::vector<unsigned char>& control_near = patch.control_near_crack();
     for (size_t k = 0; k < control.size(); ++k)
       control[k] = control_near[k] || seam_held_[i][k] || touches_collider(patch.x[k]) ? active : intact;
     const int support = patch.support_size();
+    const bool local = where_damaged_[i];
+    std::vector<int>& damaged_control = damaged_control_[i];
+    std::vector<int>& damaged_shear = damaged_shear_[i];
+    damaged_control.clear();
+    damaged_shear.clear();
     for (size_t c = 0; c < patch.num_cells(); ++c) {
       if (!cell_active_[c]) continue;
       const int* ids = patch.support(c);
       for (int j = 0; j < support; ++j) control[static_cast<size_t>(ids[j])] = active;
+      if (local && cell_active_[c] == 2) {
+        damaged_control.insert(damaged_control.end(), ids, ids + support);
+        damaged_shear.push_back(static_cast<int>(c));
+      }
     }
     std::fill(shear_[i].begin(), shear_[i].end(), active);
   }
   for (std::vector<double>& s : solid_) std::fill(s.begin(), s.end(), active);
+}
+
+void TransferShares::drop_damaged_affine(World& world) const {
+  for (size_t i = 0; i < damaged_control_.size(); ++i) {
+    std::vector<Eigen::Matrix3d>& affine = world.affine(i);
+    std::vector<Eigen::Matrix3d>& shear_affine = world.shear_affine(i);
+    if (!affine.empty())
+      for (int k : damaged_control_[i]) affine[static_cast<size_t>(k)].setZero();
+    if (!shear_affine.empty())
+      for (int c : damaged_shear_[i]) shear_affine[static_cast<size_t>(c)].setZero();
+  }
 }
 
 }  // namespace shellfrac::sim

@@ -26,6 +26,7 @@
 //    let fully damaged flaps and opening tips draw the render surface out, which PIC's averaging does
 //    not; once the damage has healed the pieces move as sheets again (docs/shell-model.md, "Transfer").
 //    "rpic_while_damaged" keeps the rotational part of the affine velocity in that spell instead (opt-in),
+//    "pic_where_damaged" runs only the particles beside damage as PIC and keeps the rest adaptive (opt-in),
 //    "adaptive_then_pic" / "adaptive_then_apic" turn a shell for good at its first damage or crack,
 //    "adaptive" keeps the adaptive shares anyway, "pic" runs such shells as PIC throughout.
 // The shares differ between particles, so the grid's g2p restores exact linear momentum (mpm/sparse_grid.cpp).
@@ -51,6 +52,9 @@ class TransferShares {
   // or a crack appeared on it (GridSettings::turns_once_damaged), or while it is damaged
   // (GridSettings::pic_while_damaged).
   bool turned(size_t shell) const { return shell < turned_.size() && turned_[shell]; }
+  // After g2p, under GridSettings::pic_where_damaged: drops the affine velocity of the particles update()
+  // found next to damage, so that the next p2g sees them as PIC.
+  void drop_damaged_affine(World& world) const;
 
  private:
   // Turns every shell that may leave the adaptive shares, and is damaged or cracked, with its seam group;
@@ -65,10 +69,13 @@ class TransferShares {
   bool turn_to_pic_ = true;               // ... for PIC (else APIC)
   bool damaged_rigid_ = false;            // while damaged: RPIC instead of PIC (rpic_while_damaged)
   std::vector<unsigned char> turned_;     // per shell: runs PIC/APIC now (turns_: for good)
+  std::vector<unsigned char> where_damaged_;  // per shell: PIC only next to its damage (pic_where_damaged)
+  // Per shell, found by update(): control points and shear particles (cells) next to damage.
+  std::vector<std::vector<int>> damaged_control_, damaged_shear_;
   std::vector<size_t> seam_group_;        // per shell: the shells tied to it by coupled seams share a value
   std::vector<std::vector<unsigned char>> seam_held_;  // per shell and control point: set by a seam
   std::vector<unsigned char> group_damaged_;  // scratch, per seam group (its smallest shell index)
-  std::vector<unsigned char> cell_active_;  // scratch, per cell of the shell being updated
+  std::vector<unsigned char> cell_active_;  // scratch, per cell of the shell being updated (2: damaged)
 };
 
 }  // namespace shellfrac::sim

@@ -70,6 +70,54 @@ TEST(Fracture, ModeOneTearIsStraightConsistentAndKeepsItsArea) {
   EXPECT_LE(area, 1.02);
 }
 
+// cracking_shells "pic_where_damaged" (opt-in): while the sheet tears, only the particles whose support
+// holds a damaged point run PIC; the rest keep the adaptive shares. Checked at every step of the mode-I
+// tear: the shell never turns as a whole, every control point of a damaged cell's support has share 0 and
+// no affine velocity after g2p (PIC), and while damaged some control points far from it keep share 1
+// (affine-FLIP, times the scene damping factor). The tear still goes through.
+TEST(Fracture, PicWhereDamagedRunsOnlyTheDamagedSupportAsPic) {
+  Simulation sim(scene::build_model(
+      tear_scene("", R"(, "grid": {"transfer": "adaptive", "cracking_shells": "pic_where_damaged"})"), "tear.json"));
+  const World& w = sim.world();
+  const shell::ShellPatch& p = w.shell(0);
+  const mpm::ParticleSet& control = w.particle_sets()[w.control_set(0)];
+  size_t damaged_steps = 0, pic_checked = 0, flip_while_damaged = 0, nonzero_affine_elsewhere = 0;
+  bool turned = false, pic_broken = false;
+  sim.advance_to(1.2, [&] {
+    turned = turned || sim.transfer_turned(0);
+    const size_t layers = static_cast<size_t>(p.num_layers());
+    std::vector<unsigned char> in_damaged_support(p.num_control_points(), 0);
+    bool damaged = false;
+    for (size_t q = 0; q < p.num_inplane_points(); ++q) {
+      bool hit = false;
+      for (size_t l = 0; l < layers; ++l) hit = hit || p.damage_values()[q * layers + l] > 0;
+      if (!hit) continue;
+      damaged = true;
+      const int* ids = p.support(p.cell_of(q));
+      for (int j = 0; j < p.support_size(); ++j) in_damaged_support[static_cast<size_t>(ids[j])] = 1;
+    }
+    if (!damaged) return false;
+    ++damaged_steps;
+    for (size_t k = 0; k < control.count; ++k) {
+      if (in_damaged_support[k]) {
+        ++pic_checked;
+        pic_broken = pic_broken || control.flip_share[k] != 0.0 || control.affine[k].norm() != 0.0;
+      } else {
+        flip_while_damaged += control.flip_share[k] > 0.99;  // 1 x the damping factor exp(-4 dt)
+        nonzero_affine_elsewhere += control.affine[k].norm() > 0.0;
+      }
+    }
+    return false;
+  });
+  EXPECT_FALSE(turned);
+  EXPECT_GT(damaged_steps, 0u);
+  EXPECT_GT(pic_checked, 0u);
+  EXPECT_FALSE(pic_broken);
+  EXPECT_GT(flip_while_damaged, 0u);
+  EXPECT_GT(nonzero_affine_elsewhere, 0u);
+  EXPECT_EQ(render_mesh::count_components(output::render_meshes(sim)[0]), 2);
+}
+
 // The run's frame renderer keeps each cracked patch's vertex bases until its crack changes: at every
 // frame of the mode-I tear, while the crack grows and after, its meshes equal a fresh render's exactly
 // (positions, faces, and the rest positions of the quality metrics).
