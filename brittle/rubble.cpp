@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <tbb/parallel_for.h>
 
@@ -65,6 +66,61 @@ std::vector<uint32_t> RubbleFinder::update(const std::vector<ParticleDamage>& da
       out.push_back(static_cast<uint32_t>(p));
     }
   return out;
+}
+
+Rubble::Rubble(const std::vector<Vec3>& rest, double radius) : finder_(rest, radius) { flag_.assign(rest.size(), 0); }
+
+size_t Rubble::retire(mpm::SolidParticles& q, const std::vector<ParticleDamage>& damage) {
+  eligible_.resize(q.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, q.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t p = r.begin(); p != r.end(); ++p) eligible_[p] = q.F[p].determinant() >= 1.0;
+  });
+  const std::vector<uint32_t> fresh = finder_.update(damage, eligible_.data(), flag_);
+  if (fresh.empty()) return 0;
+  if (count_ == 0) transfer_mass_ = q.mass;
+  for (const uint32_t p : fresh) {
+    // No mass and no stress: it adds nothing to p2g. It stays where it is (hold): as a tracer of the grid
+    // velocity it would follow nodes that only the edge of some kernel reaches, whose velocities are
+    // unbounded.
+    transfer_mass_[p] = 0.0;
+    momentum_ += q.mass[p] * q.v[p];
+    q.stress[p].setZero();
+    list_.push_back(p);
+    held_x_.push_back(q.x[p]);
+  }
+  count_ += fresh.size();
+  hold(q);
+  return fresh.size();
+}
+
+void Rubble::hold(mpm::SolidParticles& q) const {
+  for (size_t k = 0; k < list_.size(); ++k) {
+    const size_t p = list_[k];
+    q.x[p] = held_x_[k];
+    q.v[p].setZero();
+    q.C[p].setZero();
+    q.F[p].setIdentity();
+  }
+}
+
+void Rubble::reanchor(std::vector<GhostParticle>& ghosts, const std::vector<Vec3>& rest) {
+  for (GhostParticle& g : ghosts) {
+    if (!contains(g.anchor)) continue;
+    size_t best = g.anchor;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (size_t p = 0; p < rest.size(); ++p) {
+      if (flag_[p]) continue;
+      const double d = (rest[p] - g.rest).squaredNorm();
+      if (d < best_d) {
+        best_d = d;
+        best = p;
+      }
+    }
+    if (best == g.anchor) continue;  // everything is rubble: the ghost keeps pushing where it is
+    ++reanchored_ghosts_;
+    g.anchor = best;
+    g.rest = rest[best];
+  }
 }
 
 }  // namespace shellfrac::brittle

@@ -82,8 +82,7 @@ BrittleSolver::BrittleSolver(BrittleSolid& solid, SolverOptions options)
         throw InputError("solver: NACC particles need their hardening state; call BrittleSolid::set_strength");
   }
   if (solid_.material.retire_rubble && options_.damage && solid_.material.model == DamageModel::Rankine) {
-    rubble_finder_ = RubbleFinder(solid_.rest, options_.dx);
-    rubble_.assign(solid_.size(), 0);
+    rubble_ = Rubble(solid_.rest, options_.dx);
     retire_rubble();  // a solid may start with damage (a fragment that breaks again)
   }
   damaged_ = solid_.count_damaged();
@@ -108,7 +107,7 @@ void BrittleSolver::add_ghosts(const std::vector<GhostParticle>& ghosts) {
     if (g.anchor >= solid_.size()) throw InputError("ghost particle anchored to a particle that does not exist");
     ghosts_.push_back(g);
   }
-  if (rubble_count_ > 0) reanchor_ghosts();
+  if (rubble_.count() > 0) rubble_.reanchor(ghosts_, solid_.rest);
 }
 
 void BrittleSolver::set_crack(const TriMesh& crack) {
@@ -149,10 +148,6 @@ Vec3 BrittleSolver::momentum() const {
   return p;
 }
 
-const double* BrittleSolver::transfer_mass() const {
-  return rubble_count_ > 0 ? transfer_mass_.data() : solid_.particles.mass.data();
-}
-
 std::string BrittleSolver::farthest_particle() const {
   const mpm::SolidParticles& q = solid_.particles;
   if (q.size() == 0) return "no particles";
@@ -180,61 +175,7 @@ std::string BrittleSolver::farthest_particle() const {
 }
 
 void BrittleSolver::retire_rubble() {
-  // Crushed material (J < 1) still carries the load into the solid: it waits until it has relaxed.
-  mpm::SolidParticles& q = solid_.particles;
-  rubble_eligible_.resize(solid_.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, solid_.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t p = r.begin(); p != r.end(); ++p) rubble_eligible_[p] = q.F[p].determinant() >= 1.0;
-  });
-  const std::vector<uint32_t> fresh = rubble_finder_.update(solid_.damage, rubble_eligible_.data(), rubble_);
-  if (fresh.empty()) return;
-  if (rubble_count_ == 0) transfer_mass_ = q.mass;
-  for (const uint32_t p : fresh) {
-    // No mass and no stress: it adds nothing to p2g. It stays where it is (hold_rubble): as a tracer of
-    // the grid velocity it would follow nodes that only the edge of some kernel reaches, whose
-    // velocities are unbounded.
-    transfer_mass_[p] = 0.0;
-    rubble_momentum_ += q.mass[p] * q.v[p];
-    q.stress[p].setZero();
-    rubble_list_.push_back(p);
-    rubble_x_.push_back(q.x[p]);
-  }
-  rubble_count_ += fresh.size();
-  hold_rubble();
-  reanchor_ghosts();
-}
-
-void BrittleSolver::reanchor_ghosts() {
-  // Crushed material passes the contact force on: a ghost whose anchor is rubble moves to the nearest
-  // particle of the solid that is not rubble (rest positions) and acts there.
-  for (GhostParticle& g : ghosts_) {
-    if (!rubble_[g.anchor]) continue;
-    size_t best = g.anchor;
-    double best_d = std::numeric_limits<double>::infinity();
-    for (size_t p = 0; p < solid_.size(); ++p) {
-      if (rubble_[p]) continue;
-      const double d = (solid_.rest[p] - g.rest).squaredNorm();
-      if (d < best_d) {
-        best_d = d;
-        best = p;
-      }
-    }
-    if (best == g.anchor) continue;  // everything is rubble: the ghost keeps pushing where it is
-    ++reanchored_ghosts_;
-    g.anchor = best;
-    g.rest = solid_.rest[best];
-  }
-}
-
-void BrittleSolver::hold_rubble() {
-  mpm::SolidParticles& q = solid_.particles;
-  for (size_t k = 0; k < rubble_list_.size(); ++k) {
-    const size_t p = rubble_list_[k];
-    q.x[p] = rubble_x_[k];
-    q.v[p].setZero();
-    q.C[p].setZero();
-    q.F[p].setIdentity();
-  }
+  if (rubble_.retire(solid_.particles, solid_.damage) > 0) rubble_.reanchor(ghosts_, solid_.rest);
 }
 
 SolidView BrittleSolver::view() {
@@ -379,7 +320,7 @@ void BrittleSolver::stage_g2p() {
   Timer t(times_.g2p);
   grid_.transfer_to_particles(view(), dt_);
   if (!colliders_.empty()) mpm::project_particles(solid_.particles.x, solid_.particles.v, colliders_, time_ + dt_);
-  if (rubble_count_ > 0) hold_rubble();
+  if (rubble_.count() > 0) rubble_.hold(solid_.particles);
   time_ += dt_;
   ++steps_;
 }
@@ -399,7 +340,7 @@ void BrittleSolver::stage_damage() {
       tbb::blocked_range<size_t>(0, n, 2048), std::numeric_limits<size_t>::max(),
       [&](const tbb::blocked_range<size_t>& r, size_t first_bad) {
         for (size_t p = r.begin(); p != r.end(); ++p) {
-          if (rubble_count_ > 0 && rubble_[p]) continue;  // out of the transfers, held by hold_rubble
+          if (rubble_.contains(p)) continue;  // out of the transfers, held by Rubble::hold
           const Mat3& F = q.F[p];
           const double J = F.determinant();
           if (!(J > 0) || !F.allFinite()) {
@@ -439,7 +380,7 @@ void BrittleSolver::stage_damage() {
     for (const uint8_t b : nacc_branch_) ++nacc_totals_.branch[b];
     ++nacc_totals_.steps;
   }
-  if (!rubble_.empty()) retire_rubble();
+  if (rubble_.enabled()) retire_rubble();
   damaged_ = solid_.count_damaged();
   const StoppingCriteria& s = options_.stop;
   if (s.damaged_fraction > 0 && damaged_fraction() >= s.damaged_fraction) reason_ = StopReason::DamagedFraction;

@@ -115,13 +115,13 @@ class BrittleSolver {
   double dt() const { return dt_; }
   size_t damaged_count() const { return damaged_; }
   // Particles taken out of the transfers as rubble (material.retire_rubble); 0 when that is off.
-  size_t rubble_count() const { return rubble_count_; }
-  bool is_rubble(size_t p) const { return rubble_count_ > 0 && rubble_[p]; }
-  // Ghost particles moved off rubble onto the nearest particle that is not (retire_rubble).
-  size_t reanchored_ghosts() const { return reanchored_ghosts_; }
+  size_t rubble_count() const { return rubble_.count(); }
+  bool is_rubble(size_t p) const { return rubble_.contains(p); }
+  // Ghost particles moved off rubble onto the nearest particle that is not (Rubble::reanchor).
+  size_t reanchored_ghosts() const { return rubble_.reanchored_ghosts(); }
   // The momentum the rubble had when it left the transfers: momentum() plus this is the momentum the
   // loads delivered.
-  Vec3 rubble_momentum() const { return rubble_momentum_; }
+  Vec3 rubble_momentum() const { return rubble_.momentum(); }
   double damaged_fraction() const;
   const SolverOptions& options() const { return options_; }
   const SolidGrid& grid() const { return grid_; }
@@ -146,13 +146,10 @@ class BrittleSolver {
   void phase_field_stress(size_t p);
   // NACC return mapping of particle p's F^E, its stress and damage from alpha.
   void nacc_stress(size_t p);
-  // Takes the particles that have become rubble out of the transfers (material.retire_rubble).
+  // Takes the particles that have become rubble out of the transfers (material.retire_rubble) and moves
+  // the ghosts anchored on them.
   void retire_rubble();
-  // Moves ghosts anchored on rubble to the nearest particle that is not rubble.
-  void reanchor_ghosts();
-  // Puts rubble back where it was retired, at rest (after g2p moved it).
-  void hold_rubble();
-  const double* transfer_mass() const;
+  const double* transfer_mass() const { return rubble_.transfer_mass(solid_.particles); }
   // Which particle has left the solid farthest, for the message of a grid that would not fit.
   std::string farthest_particle() const;
   BrittleSolid& solid_;
@@ -176,15 +173,7 @@ class BrittleSolver {
   // NACC: the branch each particle took in the last damage stage.
   std::vector<uint8_t> nacc_branch_;
   NaccTotals nacc_totals_;
-  // Rubble: the finder, the per-particle flag and the masses the transfers see (0 for rubble).
-  RubbleFinder rubble_finder_;
-  std::vector<uint8_t> rubble_, rubble_eligible_;
-  std::vector<double> transfer_mass_;
-  size_t rubble_count_ = 0;
-  std::vector<size_t> rubble_list_;  // rubble particles in the order they were retired
-  std::vector<Vec3> rubble_x_;       // and their positions then
-  size_t reanchored_ghosts_ = 0;
-  Vec3 rubble_momentum_ = Vec3::Zero();
+  Rubble rubble_;  // empty unless material.retire_rubble
   // The last crack update: its extraction and the damage history it was extracted from.
   CrackExtraction crack_;
   std::vector<double> crack_history_;
