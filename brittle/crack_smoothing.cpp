@@ -37,47 +37,56 @@ double min_tetrahedron(const VoronoiDiagram& d, const std::vector<Vec3>& centre_
   return lowest;
 }
 
-}  // namespace
-
-size_t folded_tetrahedra(const VoronoiDiagram& d, const std::vector<Vec3>& reference) {
-  size_t folded = 0;
-  for (const VoronoiFace& face : d.faces) folded += min_tetrahedron(d, reference.empty() ? d.sites : reference, face, false) > 0 ? 0 : 1;
-  return folded;
+// A corner or a node of the lattice h Z^3 (corners are offset by h/2) as one key.
+uint64_t lattice_key(const Eigen::Vector3i& k) {
+  return (static_cast<uint64_t>(k.x() + (1 << 20)) << 42) | (static_cast<uint64_t>(k.y() + (1 << 20)) << 21) |
+         static_cast<uint64_t>(k.z() + (1 << 20));
 }
 
-CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<char>& smooth, double h,
-                                        const CrackSmoothingOptions& o) {
-  CrackSmoothingReport report;
-  const size_t nv = d.vertices.size();
-  if (!(h > 0) || nv == 0) return report;
-  const std::vector<int> label = find_regions(d, smooth).cell_region;
-  // Lattice corners (k + 1/2) h, numbered as they are met.
-  std::unordered_map<uint64_t, int> corner_id;
-  std::vector<Eigen::Vector3i> corner_at;
-  auto lattice_key = [](const Eigen::Vector3i& k) {  // of a corner or a node
-    return (static_cast<uint64_t>(k.x() + (1 << 20)) << 42) | (static_cast<uint64_t>(k.y() + (1 << 20)) << 21) |
-           static_cast<uint64_t>(k.z() + (1 << 20));
-  };
-  auto nearest_corner = [&](const Vec3& x) {
-    const Vec3 q = x / h - Vec3::Constant(0.5);
-    return Eigen::Vector3i(static_cast<int>(std::lround(q.x())), static_cast<int>(std::lround(q.y())), static_cast<int>(std::lround(q.z())));
-  };
-  auto corner_of = [&](const Eigen::Vector3i& k) {
-    const auto [it, added] = corner_id.try_emplace(lattice_key(k), static_cast<int>(corner_at.size()));
-    if (added) corner_at.push_back(k);
-    return it->second;
-  };
-  // The staircase: each crack face as the polygon of its corners; squares met twice are counted once.
+// How a point moves with the staircase: the eight corners of its cube with their trilinear weights
+// (corner -1: one that does not move).
+struct Stencil {
+  int vertex;  // or cell, for a site
+  std::array<int, 8> corner;
+  std::array<double, 8> weight;
+};
+
+// The staircase: each crack face (smooth[f], not a wall) as the polygon of the lattice corners
+// (k + 1/2) h nearest its vertices, numbered as they are met; squares met twice are counted once, and
+// faces that shrink to an edge or a point there (the jitter's slivers) are left out.
+struct Staircase {
   struct CornerEdge {
     int squares = 0;
-    std::vector<int> labels;
+    std::vector<int> labels;  // the regions on either side of its squares
   };
-  std::unordered_map<uint64_t, CornerEdge> edges;
-  std::set<std::vector<int>> seen_square;
   struct Square {
     std::vector<int> corners;  // oriented from the lower region label to the higher
   };
+  Staircase(const VoronoiDiagram& d, const std::vector<char>& smooth, double h);
+  // The stencil of the cube holding x; false if none of its corners moves (along[c] empty).
+  bool stencil(const std::vector<std::vector<int>>& along, int id, const Vec3& x, Stencil& s) const;
+  Eigen::Vector3i nearest_corner(const Vec3& x) const {
+    const Vec3 q = x / h - Vec3::Constant(0.5);
+    return Eigen::Vector3i(static_cast<int>(std::lround(q.x())), static_cast<int>(std::lround(q.y())), static_cast<int>(std::lround(q.z())));
+  }
+
+  double h;
+  std::unordered_map<uint64_t, int> corner_id;
+  std::vector<Eigen::Vector3i> corner_at;
+  std::unordered_map<uint64_t, CornerEdge> edges;
   std::vector<Square> squares;
+
+ private:
+  int corner_of(const Eigen::Vector3i& k) {
+    const auto [it, added] = corner_id.try_emplace(lattice_key(k), static_cast<int>(corner_at.size()));
+    if (added) corner_at.push_back(k);
+    return it->second;
+  }
+};
+
+Staircase::Staircase(const VoronoiDiagram& d, const std::vector<char>& smooth, double h_) : h(h_) {
+  const std::vector<int> label = find_regions(d, smooth).cell_region;
+  std::set<std::vector<int>> seen_square;
   for (size_t f = 0; f < d.faces.size() && f < smooth.size(); ++f) {
     const VoronoiFace& face = d.faces[f];
     if (!smooth[f] || face.wall()) continue;
@@ -100,7 +109,88 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
         if (std::find(e.labels.begin(), e.labels.end(), l) == e.labels.end()) e.labels.push_back(l);
     }
   }
-  if (edges.empty()) return report;
+}
+
+bool Staircase::stencil(const std::vector<std::vector<int>>& along, int id, const Vec3& x, Stencil& s) const {
+  const Vec3 q = x / h - Vec3::Constant(0.5);
+  const Eigen::Vector3i base(static_cast<int>(std::floor(q.x())), static_cast<int>(std::floor(q.y())), static_cast<int>(std::floor(q.z())));
+  const Vec3 t = q - base.cast<double>();
+  s.vertex = id;
+  bool any = false;
+  for (int k = 0; k < 8; ++k) {
+    const Eigen::Vector3i off(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+    const auto it = corner_id.find(lattice_key(base + off));
+    s.corner[static_cast<size_t>(k)] = it == corner_id.end() || along[static_cast<size_t>(it->second)].empty() ? -1 : it->second;
+    s.weight[static_cast<size_t>(k)] = (off.x() ? t.x() : 1 - t.x()) * (off.y() ? t.y() : 1 - t.y()) * (off.z() ? t.z() : 1 - t.z());
+    any = any || s.corner[static_cast<size_t>(k)] >= 0;
+  }
+  return any;
+}
+
+// Areas and centroids of the faces around the vertices that moved (fan areas: the faces need not be
+// planar any more), marked bent, and the volumes of their cells; the largest vertex move goes to the report.
+void refresh_moved_geometry(VoronoiDiagram& d, const std::vector<int>& movable, const std::vector<Vec3>& original,
+                            const std::vector<std::vector<int>>& faces_of, CrackSmoothingReport& report) {
+  std::vector<char> cell_touched(d.num_cells(), 0);
+  for (const int vertex : movable) {
+    const size_t v = static_cast<size_t>(vertex);
+    report.max_displacement = std::max(report.max_displacement, (d.vertices[v] - original[v]).norm());
+    if (d.vertices[v] == original[v]) continue;
+    for (int f : faces_of[v]) {
+      VoronoiFace& face = d.faces[static_cast<size_t>(f)];
+      cell_touched[static_cast<size_t>(face.cell_a)] = 1;
+      if (!face.wall()) cell_touched[static_cast<size_t>(face.cell_b)] = 1;
+      face.bent = true;
+      const Vec3 centre = face_centre(d.vertices, face);
+      double area2 = 0;
+      Vec3 c = Vec3::Zero();
+      for_face_triangles(face, [&](int a, int b, int cc) {
+        const Vec3 &pa = a < 0 ? centre : d.vertices[static_cast<size_t>(a)], &pb = d.vertices[static_cast<size_t>(b)],
+                   &pc = d.vertices[static_cast<size_t>(cc)];
+        const double t = (pb - pa).cross(pc - pa).norm();
+        area2 += t;
+        c += t * (pa + pb + pc) / 3.0;
+      });
+      face.area = 0.5 * area2;
+      if (area2 > 0) face.centroid = c / area2;
+    }
+  }
+  for (size_t cell = 0; cell < d.num_cells(); ++cell) {
+    if (!cell_touched[cell]) continue;
+    double six_v = 0;
+    for (int f : d.cell_faces[cell]) {
+      const VoronoiFace& face = d.faces[static_cast<size_t>(f)];
+      const double sign = face.cell_a == static_cast<int>(cell) ? 1.0 : -1.0;
+      const Vec3 centre = face_centre(d.vertices, face);
+      for_face_triangles(face, [&](int a, int b, int c) {
+        const Vec3& pa = a < 0 ? centre : d.vertices[static_cast<size_t>(a)];
+        six_v += sign * (d.vertices[static_cast<size_t>(b)] - pa).cross(d.vertices[static_cast<size_t>(c)] - pa).dot(pa - d.sites[cell]);
+      });
+    }
+    d.cell_volume[cell] = six_v / 6.0;
+  }
+}
+
+}  // namespace
+
+size_t folded_tetrahedra(const VoronoiDiagram& d, const std::vector<Vec3>& reference) {
+  size_t folded = 0;
+  for (const VoronoiFace& face : d.faces) folded += min_tetrahedron(d, reference.empty() ? d.sites : reference, face, false) > 0 ? 0 : 1;
+  return folded;
+}
+
+CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<char>& smooth, double h,
+                                        const CrackSmoothingOptions& o) {
+  CrackSmoothingReport report;
+  const size_t nv = d.vertices.size();
+  if (!(h > 0) || nv == 0) return report;
+  const Staircase stairs(d, smooth, h);
+  if (stairs.edges.empty()) return report;
+  const std::unordered_map<uint64_t, int>& corner_id = stairs.corner_id;
+  const std::vector<Eigen::Vector3i>& corner_at = stairs.corner_at;
+  const std::vector<Staircase::Square>& squares = stairs.squares;
+  const auto& edges = stairs.edges;
+  const auto nearest_corner = [&](const Vec3& x) { return stairs.nearest_corner(x); };
   const size_t nc = corner_at.size();
   // Corner neighbours along staircase edges, split by kind: junction (three or more regions around),
   // rim (one square), sheet (the rest).
@@ -151,27 +241,7 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
       faces_of[static_cast<size_t>(v)].push_back(static_cast<int>(f));
       if (d.faces[f].wall()) walls[static_cast<size_t>(v)] |= static_cast<uint8_t>(1u << (-d.faces[f].cell_b - 1));
     }
-  struct Stencil {
-    int vertex;
-    std::array<int, 8> corner;
-    std::array<double, 8> weight;
-  };
-  // The eight corners of the cube holding x with their trilinear weights; false if none of them moves.
-  auto make_stencil = [&](int id, const Vec3& x, Stencil& s) {
-    const Vec3 q = x / h - Vec3::Constant(0.5);
-    const Eigen::Vector3i base(static_cast<int>(std::floor(q.x())), static_cast<int>(std::floor(q.y())), static_cast<int>(std::floor(q.z())));
-    const Vec3 t = q - base.cast<double>();
-    s.vertex = id;
-    bool any = false;
-    for (int k = 0; k < 8; ++k) {
-      const Eigen::Vector3i off(k & 1, (k >> 1) & 1, (k >> 2) & 1);
-      const auto it = corner_id.find(lattice_key(base + off));
-      s.corner[static_cast<size_t>(k)] = it == corner_id.end() || along[static_cast<size_t>(it->second)].empty() ? -1 : it->second;
-      s.weight[static_cast<size_t>(k)] = (off.x() ? t.x() : 1 - t.x()) * (off.y() ? t.y() : 1 - t.y()) * (off.z() ? t.z() : 1 - t.z());
-      any = any || s.corner[static_cast<size_t>(k)] >= 0;
-    }
-    return any;
-  };
+  const auto make_stencil = [&](int id, const Vec3& x, Stencil& st) { return stairs.stencil(along, id, x, st); };
   std::vector<Stencil> stencils;
   for (size_t v = 0; v < nv; ++v) {
     Stencil s;
@@ -285,7 +355,7 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
   // moved squares around it); a projection that would fold a cell is undone.
   {
     std::vector<Vec3> normal(nc, Vec3::Zero());
-    for (const Square& q : squares) {
+    for (const Staircase::Square& q : squares) {
       Vec3 n = Vec3::Zero();
       for (size_t i = 0; i < q.corners.size(); ++i)
         n += corner_position(static_cast<size_t>(q.corners[i])).cross(corner_position(static_cast<size_t>(q.corners[(i + 1) % q.corners.size()])));
@@ -330,46 +400,9 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
       }
     }
   }
-  // Areas and centroids of the faces that moved (fan areas: the faces need not be planar any more), and
-  // the volumes of their cells.
-  std::vector<char> cell_touched(d.num_cells(), 0);
-  for (const Stencil& s : stencils) {
-    const size_t v = static_cast<size_t>(s.vertex);
-    report.max_displacement = std::max(report.max_displacement, (d.vertices[v] - original[v]).norm());
-    if (d.vertices[v] == original[v]) continue;
-    for (int f : faces_of[v]) {
-      VoronoiFace& face = d.faces[static_cast<size_t>(f)];
-      cell_touched[static_cast<size_t>(face.cell_a)] = 1;
-      if (!face.wall()) cell_touched[static_cast<size_t>(face.cell_b)] = 1;
-      face.bent = true;
-      const Vec3 centre = face_centre(d.vertices, face);
-      double area2 = 0;
-      Vec3 c = Vec3::Zero();
-      for_face_triangles(face, [&](int a, int b, int cc) {
-        const Vec3 &pa = a < 0 ? centre : d.vertices[static_cast<size_t>(a)], &pb = d.vertices[static_cast<size_t>(b)],
-                   &pc = d.vertices[static_cast<size_t>(cc)];
-        const double t = (pb - pa).cross(pc - pa).norm();
-        area2 += t;
-        c += t * (pa + pb + pc) / 3.0;
-      });
-      face.area = 0.5 * area2;
-      if (area2 > 0) face.centroid = c / area2;
-    }
-  }
-  for (size_t cell = 0; cell < d.num_cells(); ++cell) {
-    if (!cell_touched[cell]) continue;
-    double six_v = 0;
-    for (int f : d.cell_faces[cell]) {
-      const VoronoiFace& face = d.faces[static_cast<size_t>(f)];
-      const double sign = face.cell_a == static_cast<int>(cell) ? 1.0 : -1.0;
-      const Vec3 centre = face_centre(d.vertices, face);
-      for_face_triangles(face, [&](int a, int b, int c) {
-        const Vec3& pa = a < 0 ? centre : d.vertices[static_cast<size_t>(a)];
-        six_v += sign * (d.vertices[static_cast<size_t>(b)] - pa).cross(d.vertices[static_cast<size_t>(c)] - pa).dot(pa - d.sites[cell]);
-      });
-    }
-    d.cell_volume[cell] = six_v / 6.0;
-  }
+  std::vector<int> movable;
+  for (const Stencil& st : stencils) movable.push_back(st.vertex);
+  refresh_moved_geometry(d, movable, original, faces_of, report);
   report.reference = std::move(reference);
   return report;
 }
