@@ -249,8 +249,7 @@ struct GridSettings {
   // Adaptive transfer only: whether the particles beside damage on shell s run PIC while the rest keeps
   // the adaptive shares.
   bool pic_where_damaged(const Shell& s) const {
-    return adaptive && s.can_crack() &&
-           cracking == CrackingShells::PicWhereDamaged;
+    return adaptive && s.can_crack() && cracking == CrackingShells::PicWhereDamaged;
   }
 };
 

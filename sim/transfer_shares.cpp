@@ -31,7 +31,6 @@ void TransferShares::attach(World& world, const scene::Model& model) {
     while_damaged_[i] = model.grid.pic_while_damaged(model.shells[i]);
     where_damaged_[i] = model.grid.pic_where_damaged(model.shells[i]);
   }
-
   turn_to_pic_ = model.grid.cracking != scene::model::GridSettings::CrackingShells::AdaptiveThenApic;
   damaged_rigid_ = model.grid.cracking == scene::model::GridSettings::CrackingShells::RpicWhileDamaged;
   // Shells joined by coupled seams, directly or through others, share one group (the smallest index).
