@@ -186,16 +186,12 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
   if (!(h > 0) || nv == 0) return report;
   const Staircase stairs(d, smooth, h);
   if (stairs.edges.empty()) return report;
-  const std::unordered_map<uint64_t, int>& corner_id = stairs.corner_id;
   const std::vector<Eigen::Vector3i>& corner_at = stairs.corner_at;
-  const std::vector<Staircase::Square>& squares = stairs.squares;
-  const auto& edges = stairs.edges;
-  const auto nearest_corner = [&](const Vec3& x) { return stairs.nearest_corner(x); };
   const size_t nc = corner_at.size();
   // Corner neighbours along staircase edges, split by kind: junction (three or more regions around),
   // rim (one square), sheet (the rest).
   std::vector<std::vector<int>> sheet(nc), rim(nc), junction(nc);
-  for (const auto& [key, e] : edges) {
+  for (const auto& [key, e] : stairs.edges) {
     const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
     auto& list = e.labels.size() >= 3 ? junction : e.squares == 1 ? rim : sheet;
     list[static_cast<size_t>(a)].push_back(b);
@@ -355,7 +351,7 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
   // moved squares around it); a projection that would fold a cell is undone.
   {
     std::vector<Vec3> normal(nc, Vec3::Zero());
-    for (const Staircase::Square& q : squares) {
+    for (const Staircase::Square& q : stairs.squares) {
       Vec3 n = Vec3::Zero();
       for (size_t i = 0; i < q.corners.size(); ++i)
         n += corner_position(static_cast<size_t>(q.corners[i])).cross(corner_position(static_cast<size_t>(q.corners[(i + 1) % q.corners.size()])));
@@ -370,8 +366,8 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
     for (const Stencil& st : stencils) {
       const size_t v = static_cast<size_t>(st.vertex);
       if (!on_sheet[v] || walls[v]) continue;
-      const auto it = corner_id.find(lattice_key(nearest_corner(original[v])));
-      if (it == corner_id.end()) continue;
+      const auto it = stairs.corner_id.find(lattice_key(stairs.nearest_corner(original[v])));
+      if (it == stairs.corner_id.end()) continue;
       const size_t c = static_cast<size_t>(it->second);
       if (along[c].empty() || !junction[c].empty() || !rim[c].empty() || !(normal[c].norm() > 0)) continue;  // sheet corners only
       const Vec3 n = normal[c].normalized();

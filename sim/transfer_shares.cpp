@@ -182,6 +182,9 @@ void TransferShares::update(World& world, double intact, double active, const st
         damaged_shear.push_back(static_cast<int>(c));
       }
     }
+    // A control point lies in the support of up to (p + 1)^2 damaged cells: list it once.
+    std::sort(damaged_control.begin(), damaged_control.end());
+    damaged_control.erase(std::unique(damaged_control.begin(), damaged_control.end()), damaged_control.end());
     std::fill(shear_[i].begin(), shear_[i].end(), active);
   }
   for (std::vector<double>& s : solid_) std::fill(s.begin(), s.end(), active);
