@@ -5,6 +5,7 @@
 #include <BulletCollision/Gimpact/btGImpactShape.h>
 #include <btBulletDynamicsCommon.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.hpp"
@@ -74,6 +75,7 @@ struct Entry {
   Vec3 kinematic_velocity = Vec3::Zero(), kinematic_angular_velocity = Vec3::Zero();
   Pose kinematic_pose;
   double margin = 0;
+  std::vector<int> ignored;  // ids of the bodies ignore_pair pairs it with
   BodyState before;  // at the start of the last step (for approach speeds)
 };
 
@@ -89,6 +91,18 @@ struct RigidWorld::Impl {
     if (id < 0 || static_cast<size_t>(id) >= entries.size() || !entries[static_cast<size_t>(id)])
       throw core::InputError("rigid world: no body with id " + std::to_string(id));
     return *entries[static_cast<size_t>(id)];
+  }
+  void set_ignored(int a, int b, bool ignore) {
+    Entry& ea = at(a);
+    Entry& eb = at(b);
+    ea.object->setIgnoreCollisionCheck(eb.object.get(), ignore);
+    eb.object->setIgnoreCollisionCheck(ea.object.get(), ignore);
+    const auto note = [ignore](std::vector<int>& list, int other) {
+      list.erase(std::remove(list.begin(), list.end(), other), list.end());
+      if (ignore) list.push_back(other);
+    };
+    note(ea.ignored, b);
+    note(eb.ignored, a);
   }
   int add(std::unique_ptr<Entry> e, double mass, const Vec3& inertia, const Pose& pose, const Surface& surface) {
     e->motion = std::make_unique<btDefaultMotionState>(bt(pose));
@@ -220,6 +234,10 @@ int RigidWorld::add_body(const BodyDesc& d) {
 
 void RigidWorld::remove_body(int id) {
   Entry& e = impl_->at(id);
+  // Bullet keeps ignored partners as raw pointers. A pointer left behind would make the survivor ignore
+  // whatever body is allocated next at the freed address (a fragment spawned later, depending on the heap).
+  for (const int other : std::vector<int>(e.ignored))
+    if (has_body(other)) impl_->set_ignored(id, other, false);
   impl_->world.removeRigidBody(static_cast<btRigidBody*>(e.object.get()));
   impl_->entries[static_cast<size_t>(id)].reset();
 }
@@ -318,14 +336,15 @@ void RigidWorld::step(double dt) {
 }
 
 void RigidWorld::ignore_pair(int a, int b, bool ignore) {
-  btCollisionObject* oa = impl_->at(a).object.get();
-  btCollisionObject* ob = impl_->at(b).object.get();
-  oa->setIgnoreCollisionCheck(ob, ignore);
-  ob->setIgnoreCollisionCheck(oa, ignore);
+  impl_->set_ignored(a, b, ignore);
   if (!ignore) {
-    oa->activate(true);
-    ob->activate(true);
+    impl_->at(a).object->activate(true);
+    impl_->at(b).object->activate(true);
   }
+}
+
+size_t RigidWorld::ignored_count(int id) const {
+  return static_cast<size_t>(impl_->at(id).object->getNumObjectsWithoutCollision());
 }
 
 bool RigidWorld::bounds_overlap(int a, int b) const {

@@ -75,6 +75,7 @@ class RigidWorld {
   // A dynamic (mass > 0) or kinematic body. Throws core::InputError for a body without mass, inertia or
   // shape.
   int add_body(const BodyDesc& desc);
+  // Removes a body and forgets every pair it was ignored in.
   void remove_body(int id);
   bool has_body(int id) const;
   size_t num_bodies() const;  // dynamic and kinematic bodies present
@@ -94,6 +95,8 @@ class RigidWorld {
   const std::vector<ContactPoint>& contacts() const { return contacts_; }
   // Contacts between the two bodies are skipped (ignore) or processed again (and both are woken).
   void ignore_pair(int a, int b, bool ignore);
+  // The bodies whose contacts with `id` are skipped, as Bullet holds them.
+  size_t ignored_count(int id) const;
   // Whether the bodies' bounding boxes (shape padding included) overlap.
   bool bounds_overlap(int a, int b) const;
   // Closest signed distance between two bodies' collision shapes, margins included, as Bullet's pair query
