@@ -303,55 +303,62 @@ double stable_step(const Scene& scene, const std::vector<ShellSize>& shells, dou
   return dt;
 }
 
-}  // namespace
+// The scene's parts as the estimate sees them, and the box they span.
+struct SceneExtent {
+  std::vector<ShellSize> shells;
+  std::vector<SolidSize> solids;
+  Box box;
+  double smallest_cell = 1e300;  // the default grid spacing (as sim/simulation.cpp chooses it)
+};
 
-const ResourceItem& ResourceEstimate::largest() const {
-  return *std::max_element(memory.begin(), memory.end(),
-                           [](const ResourceItem& a, const ResourceItem& b) { return a.bytes < b.bytes; });
+SceneExtent measure_extent(const Scene& scene) {
+  SceneExtent x;
+  for (size_t i = 0; i < scene.shells.size(); ++i) {
+    x.shells.push_back(shell_size(scene.shells[i], i));
+    const ShellSize& s = x.shells.back();
+    if (!s.box.empty()) {
+      x.box.add(s.box.lo);
+      x.box.add(s.box.hi);
+    }
+    if (s.cells > 0) x.smallest_cell = std::min(x.smallest_cell, std::sqrt(s.area / s.cells));
+  }
+  // Mesh solids read their file here (bounds, area, volume; no level set).
+  for (size_t i = 0; i < scene.solids.size(); ++i) {
+    x.solids.push_back(solid_size(scene, i));
+    x.box.add(x.solids.back().box.lo);
+    x.box.add(x.solids.back().box.hi);
+    x.smallest_cell = std::min(x.smallest_cell, 2.0 * *scene.solids[i].spacing);
+  }
+  return x;
 }
 
-ResourceEstimate estimate_resources(const Scene& input) {
-  validate(input);
-  Scene scene = input;
-  apply_quality(scene);
-  ResourceEstimate e;
-  const FieldChecks at(scene.source, "");
+// Sets e.grid_dx and refuses a spacing whose block coordinates would overflow; returns the JSON path
+// that sets the spacing.
+std::string choose_grid_spacing(const Scene& scene, const SceneExtent& x, ResourceEstimate& e) {
+  e.grid_dx = scene.grid.dx.value_or(x.smallest_cell);
+  const std::string dx_path =
+      scene.grid.dx ? "/grid/dx" : x.shells.empty() ? "/solids/0/spacing" : x.shells[0].count_path;
+  if (x.box.reach() / e.grid_dx > kGridReachCells)
+    FieldChecks(scene.source, "")
+        .fail(dx_path.substr(1), "grid spacing " + format_value(e.grid_dx) + " m cannot hold the scene: it reaches " +
+                                     format_value(x.box.reach()) + " m from the origin, more than the grid's " +
+                                     format_value(kGridReachCells) + " cells (" +
+                                     format_value(kGridReachCells * e.grid_dx) + " m at this spacing); use a larger \"dx\"");
+  return dx_path;
+}
 
-  // Shells: counts, the default grid spacing (the smallest cell, as sim/simulation.cpp chooses it).
-  std::vector<ShellSize> shells;
-  Box box;
-  double smallest_cell = 1e300;
-  for (size_t i = 0; i < scene.shells.size(); ++i) {
-    shells.push_back(shell_size(scene.shells[i], i));
-    const ShellSize& s = shells.back();
-    if (!s.box.empty()) {
-      box.add(s.box.lo);
-      box.add(s.box.hi);
-    }
-    if (s.cells > 0) smallest_cell = std::min(smallest_cell, std::sqrt(s.area / s.cells));
-  }
-  // Solids: volume and bounds; mesh solids read their file (bounds, area, volume; no level set).
-  std::vector<SolidSize> solids;
-  for (size_t i = 0; i < scene.solids.size(); ++i) {
-    solids.push_back(solid_size(scene, i));
-    box.add(solids.back().box.lo);
-    box.add(solids.back().box.hi);
-    smallest_cell = std::min(smallest_cell, 2.0 * *scene.solids[i].spacing);
-  }
-  e.grid_dx = scene.grid.dx.value_or(smallest_cell);
-  const std::string dx_path = scene.grid.dx ? "/grid/dx" : shells.empty() ? "/solids/0/spacing" : shells[0].count_path;
-  if (box.reach() / e.grid_dx > kGridReachCells)
-    at.fail(dx_path.substr(1), "grid spacing " + format_value(e.grid_dx) + " m cannot hold the scene: it reaches " +
-                                   format_value(box.reach()) + " m from the origin, more than the grid's " +
-                                   format_value(kGridReachCells) + " cells (" + format_value(kGridReachCells * e.grid_dx) +
-                                   " m at this spacing); use a larger \"dx\"");
+// What the particles ask of the sparse grid: their count and the 4^3 node blocks they touch.
+struct GridDemand {
+  double particles = 0;
+  double blocks = 0;  // estimated from areas and volumes
+  GridBlocks counted; // blocks of the shells small enough to count exactly
+  explicit GridDemand(double dx) : counted(dx) {}
+};
 
-  // Memory, item by item.
-  double particles = 0, blocks = 0, block_particles = 0;
-  const double block = 4.0 * e.grid_dx;
-  GridBlocks counted(e.grid_dx);  // blocks of the shells small enough to count exactly
-  for (size_t i = 0; i < shells.size(); ++i) {
-    const ShellSize& s = shells[i];
+void add_shell_items(const Scene& scene, const SceneExtent& x, double grid_dx, ResourceEstimate& e, GridDemand& grid) {
+  const double block = 4.0 * grid_dx;
+  for (size_t i = 0; i < x.shells.size(); ++i) {
+    const ShellSize& s = x.shells[i];
     const Shell& in = scene.shells[i];
     const double points = in.quadrature.points.value_or(std::max(4, s.degree + 1)), layers = in.quadrature.layers.value_or(3);
     const double qp = s.cells * points * points * layers;
@@ -360,31 +367,37 @@ ResourceEstimate estimate_resources(const Scene& input) {
     e.memory.push_back({name + "quadrature points", qp, qp * (kQuadraturePointBase + kBasisFunctionBytes * s.support),
                         s.count_path});
     e.memory.push_back({name + "shear particles", s.cells, s.cells * kShearParticleBytes, s.count_path});
-    particles += s.control_points + qp + s.cells;
+    grid.particles += s.control_points + qp + s.cells;
     // A sheet touches about two layers of blocks (thicker sheets more), never more than 8 per particle.
     const double area_blocks =
         std::min(8.0 * (s.control_points + s.cells), s.area / (block * block) * (2.0 + s.thickness / block));
     if (s.control_points + s.cells <= kCountedParticles && area_blocks <= kCountedBlocks)
-      add_shell_particles(scene, in, "/shells/" + std::to_string(i), counted);
+      add_shell_particles(scene, in, "/shells/" + std::to_string(i), grid.counted);
     else
-      blocks += area_blocks;
-    block_particles += s.control_points + qp;
+      grid.blocks += area_blocks;
   }
-  for (size_t i = 0; i < solids.size(); ++i) {
-    const SolidSize& s = solids[i];
+}
+
+void add_solid_items(const Scene& scene, const SceneExtent& x, double grid_dx, ResourceEstimate& e, GridDemand& grid) {
+  const double block = 4.0 * grid_dx;
+  for (size_t i = 0; i < x.solids.size(); ++i) {
+    const SolidSize& s = x.solids[i];
     const Solid& in = scene.solids[i];
     const std::string path = "/solids/" + std::to_string(i);
     const std::string name = "solid \"" + in.name.value_or("solid" + std::to_string(i)) + "\" ";
     const double n = s.volume / std::pow(*in.spacing, 3);
     e.memory.push_back({name + "particles", n, n * kSolidParticleBytes, path + "/spacing"});
-    particles += n;
-    blocks += std::min(8.0 * n, s.volume / std::pow(block, 3) + s.area / (block * block));
+    grid.particles += n;
+    grid.blocks += std::min(8.0 * n, s.volume / std::pow(block, 3) + s.area / (block * block));
     if (s.voxel > 0) {
       const double voxels = band_voxels(s.area, s.box.lo, s.box.hi, s.voxel, s.band);
       e.memory.push_back({name + "level-set voxels", voxels, voxels * kLevelSetVoxelBytes,
                           path + (in.mesh.voxel_size ? "/voxel_size" : "/spacing")});
     }
   }
+}
+
+void add_collider_items(const Scene& scene, ResourceEstimate& e) {
   for (size_t i = 0; i < scene.colliders.size(); ++i) {
     const Collider& c = scene.colliders[i];
     if (c.shape != "mesh") continue;
@@ -395,17 +408,12 @@ ResourceEstimate estimate_resources(const Scene& input) {
     e.memory.push_back({"collider \"" + c.name.value_or("collider" + std::to_string(i)) + "\" level-set voxels", voxels,
                         voxels * kLevelSetVoxelBytes, path + "/voxel_size"});
   }
-  blocks += counted.active();
-  e.memory.push_back({"grid nodes", 64 * blocks, blocks * kGridBlockBytes, scene.grid.dx ? "/grid/dx" : dx_path});
-  const double ru = scene.output.resolution ? (*scene.output.resolution)[0] : 32;
-  const double rv = scene.output.resolution ? (*scene.output.resolution)[1] : 32;
-  const double render_vertices = static_cast<double>(shells.size()) * (ru + 1) * (rv + 1);
-  e.memory.push_back({"render vertices", render_vertices, render_vertices * kRenderVertexBytes, "/output/resolution"});
-  e.memory_bytes = kBaseBytes;
-  for (const ResourceItem& item : e.memory) e.memory_bytes += item.bytes;
+}
 
+// The step, the number of steps and frames, and the frames' size on disk.
+void add_time_estimate(const Scene& scene, const SceneExtent& x, double render_vertices, ResourceEstimate& e) {
   std::string dt_path;
-  e.dt = stable_step(scene, shells, e.grid_dx, dt_path);
+  e.dt = stable_step(scene, x.shells, e.grid_dx, dt_path);
   const double end = scene.time.end.value_or(1.0), rate = scene.time.frame_rate.value_or(24.0);
   e.frames = model::frames_after_start(end, rate) + 1;
   e.frames_path = rate > 1000 ? "/time/frame_rate" : "/time/end";
@@ -422,9 +430,41 @@ ResourceEstimate estimate_resources(const Scene& input) {
     }
   }
   e.steps_path = e.frames - 1 >= e.steps ? e.frames_path : end > 1e4 ? "/time/end" : dt_path;
-  e.frame_bytes = render_vertices * kDiskBytesPerRenderVertex + 256.0 * static_cast<double>(shells.size());
+  e.frame_bytes = render_vertices * kDiskBytesPerRenderVertex + 256.0 * static_cast<double>(x.shells.size());
   e.disk_bytes = e.frames * e.frame_bytes;
-  e.work = e.steps * std::max(particles, 1.0);
+}
+
+}  // namespace
+
+const ResourceItem& ResourceEstimate::largest() const {
+  return *std::max_element(memory.begin(), memory.end(),
+                           [](const ResourceItem& a, const ResourceItem& b) { return a.bytes < b.bytes; });
+}
+
+ResourceEstimate estimate_resources(const Scene& input) {
+  validate(input);
+  Scene scene = input;
+  apply_quality(scene);
+  ResourceEstimate e;
+  const SceneExtent extent = measure_extent(scene);
+  const std::string dx_path = choose_grid_spacing(scene, extent, e);
+
+  // Memory, item by item.
+  GridDemand grid(e.grid_dx);
+  add_shell_items(scene, extent, e.grid_dx, e, grid);
+  add_solid_items(scene, extent, e.grid_dx, e, grid);
+  add_collider_items(scene, e);
+  const double blocks = grid.blocks + grid.counted.active();
+  e.memory.push_back({"grid nodes", 64 * blocks, blocks * kGridBlockBytes, scene.grid.dx ? "/grid/dx" : dx_path});
+  const double ru = scene.output.resolution ? (*scene.output.resolution)[0] : 32;
+  const double rv = scene.output.resolution ? (*scene.output.resolution)[1] : 32;
+  const double render_vertices = static_cast<double>(extent.shells.size()) * (ru + 1) * (rv + 1);
+  e.memory.push_back({"render vertices", render_vertices, render_vertices * kRenderVertexBytes, "/output/resolution"});
+  e.memory_bytes = kBaseBytes;
+  for (const ResourceItem& item : e.memory) e.memory_bytes += item.bytes;
+
+  add_time_estimate(scene, extent, render_vertices, e);
+  e.work = e.steps * std::max(grid.particles, 1.0);
   return e;
 }
 
