@@ -171,42 +171,31 @@ void check_grid_memory(const Builder& b, const std::string& key, const std::stri
 
 }  // namespace
 
-model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t index) {
-  const std::string path = index_path("/solids", index);
-  const SolidFracture& fr = *s.fracture;
-  model::BrittleBody out;
-  out.name = s.name.value_or(*s.shape + std::to_string(index));
-  out.json_path = path;
-  out.mesh = solid_mesh(b, s, path, out.mesh_repair);
-  out.mesh.name = out.name;
-  const double spacing = *s.spacing;
-  BVec3 lo, hi;
-  brittle::bounding_box(out.mesh, lo, hi);
-  if ((hi - lo).minCoeff() < spacing) b.fail(path + "/spacing", "spacing is larger than the solid: no particle would fit");
+namespace {
 
-  // Grids, checked for memory before anything is allocated.
-  const double dx = fr.grid_spacing.value_or(2.0 * spacing);
-  const double h_v = fr.crack_grid_spacing.value_or(dx);
-  const bool two_fields = fr.two_fields.value_or(true);
+// Refuses grids and level sets that would not fit in memory, before anything is allocated.
+void check_event_memory(const Builder& b, const std::string& path, const SolidFracture& fr, const brittle::TriMesh& mesh,
+                        const BVec3& lo, const BVec3& hi, double dx, double h_v) {
   double solver_nodes = 1;
   for (int a = 0; a < 3; ++a) solver_nodes *= std::floor((hi[a] - lo[a]) / dx) + 4;
-  const double node_bytes = two_fields ? 2.0 * sizeof(brittle::GridNode) + sizeof(brittle::GVec3) : sizeof(brittle::GridNode);
+  const double node_bytes =
+      fr.two_fields.value_or(true) ? 2.0 * sizeof(brittle::GridNode) + sizeof(brittle::GVec3) : sizeof(brittle::GridNode);
   check_grid_memory(b, path + "/fracture/grid_spacing", "MPM grid", solver_nodes * node_bytes, kSolverGridLimit, dx);
   check_grid_memory(b, path + "/fracture/crack_grid_spacing", "crack grid (h_v)",
                     brittle::CrackGrid::memory_estimate(lo, hi, h_v), kCrackGridLimit, h_v);
-  const bool level_set = fr.cutter == "level_set";
-  const double voxel = fr.voxel.value_or(0.0);
-  if (level_set || fr.gap_width.value_or(0.0) > 0) {
+  if (fr.cutter == "level_set" || fr.gap_width.value_or(0.0) > 0) {
+    const double voxel = fr.voxel.value_or(0.0);
     const double v = voxel > 0 ? voxel : (hi - lo).norm() / 200.0;
-    const double bytes = brittle::level_set_cut_bytes(v, 3.0 * brittle::surface_area(out.mesh));
+    const double bytes = brittle::level_set_cut_bytes(v, 3.0 * brittle::surface_area(mesh));
     if (bytes > kCrackGridLimit)
       b.fail(path + "/fracture/voxel", "voxel " + core::format_number(v, 4) + " m is too small for memory: the level sets would need about " +
                                            gigabytes(bytes) + " (limit " + gigabytes(kCrackGridLimit) + "); use at least " +
                                            core::format_number(v * std::sqrt(bytes / kCrackGridLimit), 4) + " m");
   }
+}
 
+brittle::BrittleMaterial brittle_material(const SolidMaterial& sm) {
   brittle::BrittleMaterial mat;
-  const SolidMaterial& sm = *s.material;
   mat.youngs_modulus = *sm.youngs_modulus;
   mat.poisson_ratio = *sm.poisson_ratio;
   mat.density = *sm.density;
@@ -230,18 +219,22 @@ model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t 
   const std::string fully_damaged = sm.fully_damaged.value_or("tensionless");
   if (fully_damaged == "bounded") mat.broken_stretch_limit = 3.0;
   mat.retire_rubble = fully_damaged == "rubble";
+  return mat;
+}
 
-  // Particles: sampled in the mesh, minus the removed regions; particle volumes share the mesh volume.
-  const brittle::Sampling sampling = s.sampling == "regular"        ? brittle::Sampling::Regular
-                                     : s.sampling == "poisson_disk" ? brittle::Sampling::PoissonDisk
-                                                                    : brittle::Sampling::Jittered;
-  auto solid = std::make_shared<brittle::BrittleSolid>();
-  solid->material = mat;
-  solid->spacing = spacing;
+brittle::Sampling sampling_of(const Solid& s) {
+  return s.sampling == "regular"        ? brittle::Sampling::Regular
+         : s.sampling == "poisson_disk" ? brittle::Sampling::PoissonDisk
+                                        : brittle::Sampling::Jittered;
+}
+
+// Particles sampled in the mesh, minus the removed regions; their volumes share the mesh volume.
+void add_sampled_particles(const Builder& b, const Solid& s, const std::string& path, const brittle::TriMesh& mesh,
+                           brittle::BrittleSolid& solid) {
   try {
-    const std::vector<BVec3> points =
-        brittle::sample_mesh(out.mesh, spacing, sampling, static_cast<unsigned>(s.seed.value_or(1)), b.scene.source + ": " + path);
-    const double particle_volume = brittle::mass_properties(out.mesh, 1.0).volume / static_cast<double>(points.size());
+    const std::vector<BVec3> points = brittle::sample_mesh(mesh, solid.spacing, sampling_of(s),
+                                                           static_cast<unsigned>(s.seed.value_or(1)), b.scene.source + ": " + path);
+    const double particle_volume = brittle::mass_properties(mesh, 1.0).volume / static_cast<double>(points.size());
     std::vector<brittle::StrengthRegion> removed;
     for (const SolidRegion& r : s.remove) removed.push_back(region_of(r));
     std::vector<BVec3> kept;
@@ -251,30 +244,21 @@ model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t 
       if (!gone) kept.push_back(p);
     }
     if (kept.empty()) b.fail(path + "/remove", "the removed regions take every particle");
-    solid->add_particles(kept, particle_volume, vec3_or(s.initial_velocity, {0, 0, 0}));
+    solid.add_particles(kept, particle_volume, vec3_or(s.initial_velocity, {0, 0, 0}));
   } catch (const SceneError&) {
     throw;
   } catch (const core::InputError& e) {
     b.fail(path + "/spacing", e.what());
   }
+}
 
-  // Strength: regions, then the Weibull draw; H per particle (refused where sigma_f^2 l / (2 E G_f) >= 1).
-  std::vector<brittle::StrengthRegion> regions;
-  brittle::WeibullStrength weibull;
-  if (s.strength) {
-    for (const SolidRegion& r : s.strength->regions) regions.push_back(region_of(r));
-    weibull = weibull_of(s.strength->weibull);
-  }
-  try {
-    solid->set_strength(regions, weibull, dx);
-  } catch (const core::InputError& e) {
-    b.fail(path + "/material/fracture_energy", e.what());
-  }
-
-  // Impacts: the Hertz duration needs the sampled solid (its mass and centre of mass).
+// The ghost particles of the solid's impacts; the Hertz duration needs the sampled solid (its mass and
+// centre of mass).
+std::vector<brittle::GhostParticle> impact_ghosts(const Builder& b, const Solid& s, const std::string& path,
+                                                  const model::BrittleBody& body, const brittle::BrittleSolid& solid) {
+  std::vector<brittle::GhostParticle> out;
   for (size_t k = 0; k < s.impacts.size(); ++k) {
     const ImpactSpec& im = s.impacts[k];
-    const std::string at = index_path(path + "/impacts", k);
     brittle::Impact impact;
     impact.point = vec3(*im.point);
     impact.direction = vec3(*im.direction);
@@ -285,23 +269,26 @@ model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t 
       if (im.hertz) {
         const HertzSpec& h = *im.hertz;
         impact.duration = brittle::impact_duration(brittle::HertzBody{*h.youngs_modulus, *h.poisson_ratio, *h.radius, *h.mass},
-                                                   *solid, impact.point, *h.speed);
+                                                   solid, impact.point, *h.speed);
       } else {
         impact.duration = *im.duration;
       }
-      const std::vector<brittle::GhostParticle> ghosts = brittle::impact_ghosts(impact, out.mesh, *solid, out.name);
-      out.ghosts.insert(out.ghosts.end(), ghosts.begin(), ghosts.end());
+      const std::vector<brittle::GhostParticle> ghosts = brittle::impact_ghosts(impact, body.mesh, solid, body.name);
+      out.insert(out.end(), ghosts.begin(), ghosts.end());
     } catch (const core::InputError& e) {
-      b.fail(at, e.what());
+      b.fail(index_path(path + "/impacts", k), e.what());
     }
   }
-  out.solid = std::move(solid);
+  return out;
+}
 
-  brittle::SolverOptions& o = out.solver;
+brittle::SolverOptions solver_options(const Builder& b, const Solid& s, const brittle::BrittleMaterial& mat, double dx) {
+  const SolidFracture& fr = *s.fracture;
+  brittle::SolverOptions o;
   o.dx = dx;
   o.cfl = fr.cfl.value_or(0.3);
   o.gravity = vec3_or(b.scene.gravity, {0.0, -9.81, 0.0});
-  o.two_fields = two_fields;
+  o.two_fields = fr.two_fields.value_or(true);
   o.field_contact = fr.field_contact.value_or(true);
   if (fr.stop) {
     o.stop.damaged_fraction = fr.stop->damaged_fraction.value_or(0.0);
@@ -310,7 +297,7 @@ model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t 
   }
   if (mat.model == brittle::DamageModel::PhaseField) {
     brittle::PhaseFieldOptions& pf = o.phase_field;
-    const PhaseFieldMaterial& pm = *sm.phase_field;
+    const PhaseFieldMaterial& pm = *s.material->phase_field;
     pf.length_scale = pm.length_scale.value_or(0.0);
     pf.mobility = *pm.mobility;
     pf.residual = pm.residual.value_or(pf.residual);
@@ -324,21 +311,26 @@ model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t 
       pf.max_iterations = static_cast<size_t>(ps.max_iterations.value_or(static_cast<int>(pf.max_iterations)));
     }
   }
-  out.crack_interval = fr.crack_interval.value_or(20);
-  out.event.crack.grid.spacing = h_v;
-  out.event.fragments.cutter = level_set ? brittle::Cutter::LevelSet : brittle::Cutter::Exact;
-  out.event.fragments.voxel = voxel;
-  out.event.gap_width = fr.gap_width.value_or(0.0);
+  return o;
+}
+
+// Crack extraction, cutting, breakage order and fracture detail (thesis Table 3.2).
+brittle::FractureEventOptions event_options(const SolidFracture& fr, double h_v) {
+  brittle::FractureEventOptions e;
+  e.crack.grid.spacing = h_v;
+  e.fragments.cutter = fr.cutter == "level_set" ? brittle::Cutter::LevelSet : brittle::Cutter::Exact;
+  e.fragments.voxel = fr.voxel.value_or(0.0);
+  e.gap_width = fr.gap_width.value_or(0.0);
   if (fr.breakage_order) {
-    out.event.breakage.enabled = true;
-    out.event.breakage.dynamics = fr.breakage_order->dynamics.value_or(0.1);
-    out.event.breakage.min_share = fr.breakage_order->min_share.value_or(0.01);
-    out.event.breakage.smoothing.passes = fr.breakage_order->smoothing_steps.value_or(out.event.breakage.smoothing.passes);
+    e.breakage.enabled = true;
+    e.breakage.dynamics = fr.breakage_order->dynamics.value_or(0.1);
+    e.breakage.min_share = fr.breakage_order->min_share.value_or(0.01);
+    e.breakage.smoothing.passes = fr.breakage_order->smoothing_steps.value_or(e.breakage.smoothing.passes);
   }
   if (fr.detail) {
     // Table 3.2's lengths default to fractions of the crack grid: faces refined to h_v / 4, lines stepping
     // one refined edge and marking h_v across (Table 3.3's s = 5 d), the heights smoothed over h_v / 2.
-    brittle::FractureDetailOptions& d = out.event.detail;
+    brittle::FractureDetailOptions& d = e.detail;
     d.height = *fr.detail->height;
     d.edge = fr.detail->edge.value_or(0.25 * h_v);
     d.step = fr.detail->step.value_or(d.edge);
@@ -347,24 +339,70 @@ model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t 
     d.max_steps = fr.detail->max_steps.value_or(d.max_steps);
     d.enhanced = fr.detail->enhanced.value_or(d.enhanced);
   }
+  return e;
+}
+
+model::BrittleBody::Rigid rigid_settings(const Solid& s, const std::vector<brittle::StrengthRegion>& regions,
+                                         const brittle::WeibullStrength& weibull) {
+  const RigidBodySpec& r = *s.rigid_body;
+  model::BrittleBody::Rigid rb;
+  rb.impulse_threshold = *r.impulse_threshold;
+  rb.angular_velocity = vec3_or(r.angular_velocity, {0, 0, 0});
+  rb.velocity = vec3_or(s.initial_velocity, {0, 0, 0});
+  rb.collision_faces = static_cast<size_t>(r.collision_faces.value_or(10000));
+  rb.surface = rigid::Surface{r.friction.value_or(0.5), r.restitution.value_or(0.2)};
+  rb.impact_radius = r.impact_radius.value_or(0.0);
+  rb.contact_times = r.contact_times.value_or(3.0);
+  rb.strength_regions = regions;
+  rb.weibull = weibull;
+  rb.sampling = sampling_of(s);
+  rb.seed = static_cast<unsigned>(s.seed.value_or(1));
+  return rb;
+}
+
+}  // namespace
+
+model::BrittleBody build_brittle_solid(const Builder& b, const Solid& s, size_t index) {
+  const std::string path = index_path("/solids", index);
+  const SolidFracture& fr = *s.fracture;
+  model::BrittleBody out;
+  out.name = s.name.value_or(*s.shape + std::to_string(index));
+  out.json_path = path;
+  out.mesh = solid_mesh(b, s, path, out.mesh_repair);
+  out.mesh.name = out.name;
+  BVec3 lo, hi;
+  brittle::bounding_box(out.mesh, lo, hi);
+  if ((hi - lo).minCoeff() < *s.spacing) b.fail(path + "/spacing", "spacing is larger than the solid: no particle would fit");
+  const double dx = fr.grid_spacing.value_or(2.0 * *s.spacing);
+  const double h_v = fr.crack_grid_spacing.value_or(dx);
+  check_event_memory(b, path, fr, out.mesh, lo, hi, dx, h_v);
+
+  auto solid = std::make_shared<brittle::BrittleSolid>();
+  solid->material = brittle_material(*s.material);
+  solid->spacing = *s.spacing;
+  add_sampled_particles(b, s, path, out.mesh, *solid);
+
+  // Strength: regions, then the Weibull draw; H per particle (refused where sigma_f^2 l / (2 E G_f) >= 1).
+  std::vector<brittle::StrengthRegion> regions;
+  brittle::WeibullStrength weibull;
+  if (s.strength) {
+    for (const SolidRegion& r : s.strength->regions) regions.push_back(region_of(r));
+    weibull = weibull_of(s.strength->weibull);
+  }
+  try {
+    solid->set_strength(regions, weibull, dx);
+  } catch (const core::InputError& e) {
+    b.fail(path + "/material/fracture_energy", e.what());
+  }
+  out.ghosts = impact_ghosts(b, s, path, out, *solid);
+  out.solver = solver_options(b, s, solid->material, dx);
+  out.solid = std::move(solid);
+  out.crack_interval = fr.crack_interval.value_or(20);
+  out.event = event_options(fr, h_v);
   // Counting rule (docs/brittle.md): a piece smaller than one MPM cell, dx^3, cannot have been resolved
   // by the simulation; it is a sliver, kept in the mesh but not counted as a fragment.
   out.sliver_volume = fr.sliver_volume.value_or(dx * dx * dx);
-  if (s.rigid_body) {
-    const RigidBodySpec& r = *s.rigid_body;
-    model::BrittleBody::Rigid& rb = out.rigid.emplace();
-    rb.impulse_threshold = *r.impulse_threshold;
-    rb.angular_velocity = vec3_or(r.angular_velocity, {0, 0, 0});
-    rb.velocity = vec3_or(s.initial_velocity, {0, 0, 0});
-    rb.collision_faces = static_cast<size_t>(r.collision_faces.value_or(10000));
-    rb.surface = rigid::Surface{r.friction.value_or(0.5), r.restitution.value_or(0.2)};
-    rb.impact_radius = r.impact_radius.value_or(0.0);
-    rb.contact_times = r.contact_times.value_or(3.0);
-    rb.strength_regions = regions;
-    rb.weibull = weibull;
-    rb.sampling = sampling;
-    rb.seed = static_cast<unsigned>(s.seed.value_or(1));
-  }
+  if (s.rigid_body) out.rigid = rigid_settings(s, regions, weibull);
   return out;
 }
 
