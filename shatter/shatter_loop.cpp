@@ -254,6 +254,139 @@ std::shared_ptr<const brittle::BrittleSolid> ShatterLoop::particles_for(const Pi
   return s;
 }
 
+brittle::Impact ShatterLoop::event_load(size_t index, const BodyImpact& impact, const brittle::BrittleSolid& solid,
+                                        EventRecord& r) const {
+  const Piece& p = pieces_[index];
+  const rigid::Pose mat_from_world = world_from_material(index).inverse();
+  // The contact lies on the decimated collision shape: move it onto the render surface.
+  brittle::Vec3 point = mat_from_world.apply(impact.point);
+  brittle::Vec3 lo, hi;
+  brittle::bounding_box(p.mesh, lo, hi);
+  const double reach = (hi - lo).norm();
+  const brittle::TriangleIndex surface(p.mesh.positions, p.mesh.triangles, 2 * solid.spacing, reach);
+  const brittle::TriangleIndex::Hit hit = surface.closest(point, reach);
+  if (hit.found) point = hit.point;
+  const double speed = std::max(impact.approach_speed, 1e-6);
+  r.contact_time = brittle::hertz_contact_time(hertz_body(p.body, impact.point),
+                                               hertz_body(impact.partner, impact.point), speed);  // Eq. 3.11
+  brittle::Impact load;
+  load.point = point;
+  load.direction = mat_from_world.rotate(impact.direction);
+  load.impulse = impact.impulse;
+  load.duration = r.contact_time;
+  load.radius = roots_[static_cast<size_t>(p.root)].impact_radius;
+  load.normal_if_outward = true;
+  return load;
+}
+
+bool ShatterLoop::run_event_mpm(const Piece& p, brittle::BrittleSolid& solid,
+                                const std::vector<brittle::GhostParticle>& ghosts, EventRecord& r) {
+  // thesis sec. 3.2: a short fracture run of the body at rest in object space
+  const BreakableSpec& root = roots_[static_cast<size_t>(p.root)];
+  const auto t_mpm = Clock::now();
+  brittle::SolverOptions so = root.solver;
+  so.gravity = brittle::Vec3::Zero();
+  const double cap = root.contact_times * r.contact_time;
+  so.stop.max_time = so.stop.max_time > 0 ? std::min(so.stop.max_time, cap) : cap;
+  brittle::BrittleSolver solver(solid, so);
+  solver.add_ghosts(ghosts);
+  const size_t interval = static_cast<size_t>(std::max(root.crack_interval, 1));
+  bool abandoned = false;
+  while (!solver.should_stop() && !abandoned) {
+    solver.step();
+    if (so.two_fields && solver.steps() % interval == 0 && solver.damaged_count() > 0)
+      solver.update_crack(root.event.crack);
+    abandoned = observer_ && !observer_(EventProgress{p.name, solver.steps(), solver.time(), so.stop.max_time,
+                                                      solver.damaged_count(), solid.size()});
+  }
+  r.mpm_steps = solver.steps();
+  r.damaged_particles = solver.damaged_count();
+  r.rubble_particles = solver.rubble_count();
+  r.seconds_mpm = seconds_since(t_mpm);
+  r.seconds_mpm_cracks = solver.times().cracks;
+  totals_.mpm_steps += r.mpm_steps;
+  totals_.seconds_mpm += r.seconds_mpm;
+  return !abandoned;
+}
+
+brittle::FractureEvent ShatterLoop::cut_fragments(const Piece& p, const brittle::BrittleSolid& solid, EventRecord& r) {
+  const BreakableSpec& root = roots_[static_cast<size_t>(p.root)];
+  brittle::FractureEventOptions eo = root.event;
+  if (!(eo.density > 0)) eo.density = solid.material.density;
+  brittle::FractureEvent ev = brittle::fracture_event(solid, p.mesh, eo, p.name);
+  // Damage that fills most of the body leaves no intact structure for the crack surface to run
+  // between (docs/brittle.md, "Breakage order"): such a body came out whole although it is shattered.
+  // Split it along the order in which it broke instead.
+  if (ev.fragments.fragments.size() < 2 && !eo.breakage.enabled &&
+      static_cast<double>(r.damaged_particles) >= root.breakage_order_above * static_cast<double>(r.particles)) {
+    eo.breakage.enabled = true;
+    const double extract = ev.seconds_extract, cut = ev.seconds_cut;
+    ev = brittle::fracture_event(solid, p.mesh, eo, p.name);
+    ev.seconds_extract += extract;
+    ev.seconds_cut += cut;
+    r.breakage_order = true;
+  }
+  r.seconds_extract = ev.seconds_extract;
+  r.seconds_cut = ev.seconds_cut;
+  totals_.seconds_extract += ev.seconds_extract;
+  totals_.seconds_cut += ev.seconds_cut;
+  r.fragments = ev.fragments.fragments.size();
+  r.volume_change = ev.fragments.volume_change();
+  return ev;
+}
+
+void ShatterLoop::spawn_fragments(size_t index, const brittle::FractureEvent& ev, EventRecord& r) {
+  const auto t_spawn = Clock::now();
+  const Piece& p = pieces_[index];
+  const BreakableSpec& root = roots_[static_cast<size_t>(p.root)];
+  const rigid::Pose world_from_mat = world_from_material(index);
+  const int parent_body = p.body;
+  const RigidMoments before = moments({index});
+  const rigid::BodyState parent = r.parent;
+  const std::shared_ptr<const brittle::BrittleSolid> parent_particles = p.particles;
+  const int generation = p.generation + 1, root_index = p.root;
+  world_.remove_body(parent_body);
+  piece_of_body_[static_cast<size_t>(parent_body)] = -1;
+  pieces_[index].body = -1;
+  pieces_[index].died = time_;
+  std::vector<size_t> children;
+  for (const brittle::Fragment& f : ev.fragments.fragments) {
+    const SpawnedFragment s =
+        rigid_piece(f.mesh, f.properties, world_from_mat, parent.pose.translation, parent.velocity,
+                    parent.angular_velocity, root_volume_[static_cast<size_t>(root_index)], root.spawn, f.mesh.name);
+    Piece c;
+    c.name = f.mesh.name;
+    c.root = root_index;
+    c.generation = generation;
+    c.fragment_class = s.fragment_class;
+    c.breakable = breakable(s.fragment_class);
+    c.mesh = f.mesh;
+    c.properties = f.properties;
+    c.material_to_body = s.material_to_body;
+    if (s.fragment_class == FragmentClass::NearlyWhole) c.particles = particles_inside(*parent_particles, f.mesh);
+    ++r.by_class[static_cast<int>(s.fragment_class)];
+    children.push_back(pieces_.size());
+    add_piece(std::move(c), s.body);
+  }
+  for (size_t i = 0; i < children.size(); ++i)
+    for (size_t j = i + 1; j < children.size(); ++j) {
+      const int a = pieces_[children[i]].body, b = pieces_[children[j]].body;
+      world_.ignore_pair(a, b, true);
+      ignored_siblings_.emplace_back(a, b);
+    }
+  const RigidMoments after = moments(children);
+  // Scales for the relative errors that stay meaningful when the parent does not spin or move:
+  // sqrt(2 M E) is the momentum of the parent's kinetic energy, times its size for angular momentum.
+  const double p_scale = std::max(before.momentum.norm(), std::sqrt(2 * before.mass * before.kinetic_energy));
+  const double l_scale = std::max(before.angular_momentum.norm(), p_scale * std::cbrt(ev.fragments.input_volume));
+  r.mass_error = std::abs(after.mass - before.mass) / before.mass;
+  r.momentum_error = relative(after.momentum, before.momentum, p_scale);
+  r.angular_momentum_error = relative(after.angular_momentum, before.angular_momentum, l_scale);
+  r.energy_ratio = before.kinetic_energy > 0 ? after.kinetic_energy / before.kinetic_energy : 1.0;
+  r.seconds_spawn = seconds_since(t_spawn);
+  totals_.seconds_spawn += r.seconds_spawn;
+}
+
 void ShatterLoop::fracture(size_t index, const BodyImpact& impact) {
   EventRecord r;
   r.time = time_;
@@ -263,143 +396,28 @@ void ShatterLoop::fracture(size_t index, const BodyImpact& impact) {
   r.impulse = impact.impulse;
   r.point = impact.point;
   r.approach_speed = impact.approach_speed;
-  const BreakableSpec& root = roots_[static_cast<size_t>(pieces_[index].root)];
   ++totals_.events;
   try {
+    pieces_[index].particles = particles_for(pieces_[index]);
     const Piece& p = pieces_[index];
-    const std::shared_ptr<const brittle::BrittleSolid> pristine = particles_for(p);
-    pieces_[index].particles = pristine;
-    brittle::BrittleSolid solid = *pristine;
+    brittle::BrittleSolid solid = *p.particles;
     for (brittle::Vec3& v : solid.particles.v) v.setZero();  // sec. 3.2: the body at rest in object space
     r.particles = solid.size();
     r.parent = world_.state(p.body);
-    const rigid::Pose world_from_mat = world_from_material(index);
-    const rigid::Pose mat_from_world = world_from_mat.inverse();
-    // The contact lies on the decimated collision shape: move it onto the render surface.
-    brittle::Vec3 point = mat_from_world.apply(impact.point);
-    brittle::Vec3 lo, hi;
-    brittle::bounding_box(p.mesh, lo, hi);
-    const double reach = (hi - lo).norm();
-    const brittle::TriangleIndex surface(p.mesh.positions, p.mesh.triangles, 2 * solid.spacing, reach);
-    const brittle::TriangleIndex::Hit hit = surface.closest(point, reach);
-    if (hit.found) point = hit.point;
-    const double speed = std::max(impact.approach_speed, 1e-6);
-    r.contact_time = brittle::hertz_contact_time(hertz_body(p.body, impact.point),
-                                                 hertz_body(impact.partner, impact.point), speed);  // Eq. 3.11
-    brittle::Impact load;
-    load.point = point;
-    load.direction = mat_from_world.rotate(impact.direction);
-    load.impulse = impact.impulse;
-    load.duration = r.contact_time;
-    load.radius = root.impact_radius;
-    load.normal_if_outward = true;
-    const std::vector<brittle::GhostParticle> ghosts = brittle::impact_ghosts(load, p.mesh, solid, p.name);
-
-    // thesis sec. 3.2: a short fracture run of the body at rest in object space
-    const auto t_mpm = Clock::now();
-    brittle::SolverOptions so = root.solver;
-    so.gravity = brittle::Vec3::Zero();
-    const double cap = root.contact_times * r.contact_time;
-    so.stop.max_time = so.stop.max_time > 0 ? std::min(so.stop.max_time, cap) : cap;
-    brittle::BrittleSolver solver(solid, so);
-    solver.add_ghosts(ghosts);
-    const size_t interval = static_cast<size_t>(std::max(root.crack_interval, 1));
-    bool abandoned = false;
-    while (!solver.should_stop() && !abandoned) {
-      solver.step();
-      if (so.two_fields && solver.steps() % interval == 0 && solver.damaged_count() > 0)
-        solver.update_crack(root.event.crack);
-      abandoned = observer_ && !observer_(EventProgress{p.name, solver.steps(), solver.time(), so.stop.max_time,
-                                                        solver.damaged_count(), solid.size()});
-    }
-    r.mpm_steps = solver.steps();
-    r.damaged_particles = solver.damaged_count();
-    r.rubble_particles = solver.rubble_count();
-    r.seconds_mpm = seconds_since(t_mpm);
-    r.seconds_mpm_cracks = solver.times().cracks;
-    totals_.mpm_steps += r.mpm_steps;
-    totals_.seconds_mpm += r.seconds_mpm;
-    if (abandoned) {
+    const std::vector<brittle::GhostParticle> ghosts =
+        brittle::impact_ghosts(event_load(index, impact, solid, r), p.mesh, solid, p.name);
+    if (!run_event_mpm(p, solid, ghosts, r)) {
       r.outcome = "interrupted";
-      events_.push_back(r);
-      return;
-    }
-
-    brittle::FractureEventOptions eo = root.event;
-    if (!(eo.density > 0)) eo.density = solid.material.density;
-    brittle::FractureEvent ev = brittle::fracture_event(solid, p.mesh, eo, p.name);
-    // Damage that fills most of the body leaves no intact structure for the crack surface to run
-    // between (docs/brittle.md, "Breakage order"): such a body came out whole although it is shattered.
-    // Split it along the order in which it broke instead.
-    if (ev.fragments.fragments.size() < 2 && !eo.breakage.enabled &&
-        static_cast<double>(r.damaged_particles) >= root.breakage_order_above * static_cast<double>(r.particles)) {
-      eo.breakage.enabled = true;
-      const double extract = ev.seconds_extract, cut = ev.seconds_cut;
-      ev = brittle::fracture_event(solid, p.mesh, eo, p.name);
-      ev.seconds_extract += extract;
-      ev.seconds_cut += cut;
-      r.breakage_order = true;
-    }
-    r.seconds_extract = ev.seconds_extract;
-    r.seconds_cut = ev.seconds_cut;
-    totals_.seconds_extract += ev.seconds_extract;
-    totals_.seconds_cut += ev.seconds_cut;
-    r.fragments = ev.fragments.fragments.size();
-    r.volume_change = ev.fragments.volume_change();
-    if (r.fragments < 2) {
-      r.outcome = "intact";
-      events_.push_back(r);
-      return;
-    }
-
-    const auto t_spawn = Clock::now();
-    const int parent_body = p.body;
-    const RigidMoments before = moments({index});
-    const rigid::BodyState parent = r.parent;
-    const std::shared_ptr<const brittle::BrittleSolid> parent_particles = pristine;
-    const int generation = p.generation + 1, root_index = p.root;
-    world_.remove_body(parent_body);
-    piece_of_body_[static_cast<size_t>(parent_body)] = -1;
-    pieces_[index].body = -1;
-    pieces_[index].died = time_;
-    std::vector<size_t> children;
-    for (const brittle::Fragment& f : ev.fragments.fragments) {
-      const SpawnedFragment s =
-          rigid_piece(f.mesh, f.properties, world_from_mat, parent.pose.translation, parent.velocity,
-                      parent.angular_velocity, root_volume_[static_cast<size_t>(root_index)], root.spawn, f.mesh.name);
-      Piece c;
-      c.name = f.mesh.name;
-      c.root = root_index;
-      c.generation = generation;
-      c.fragment_class = s.fragment_class;
-      c.breakable = breakable(s.fragment_class);
-      c.mesh = f.mesh;
-      c.properties = f.properties;
-      c.material_to_body = s.material_to_body;
-      if (s.fragment_class == FragmentClass::NearlyWhole) c.particles = particles_inside(*parent_particles, f.mesh);
-      ++r.by_class[static_cast<int>(s.fragment_class)];
-      children.push_back(pieces_.size());
-      add_piece(std::move(c), s.body);
-    }
-    for (size_t i = 0; i < children.size(); ++i)
-      for (size_t j = i + 1; j < children.size(); ++j) {
-        const int a = pieces_[children[i]].body, b = pieces_[children[j]].body;
-        world_.ignore_pair(a, b, true);
-        ignored_siblings_.emplace_back(a, b);
+    } else {
+      const brittle::FractureEvent ev = cut_fragments(p, solid, r);
+      if (r.fragments < 2) {
+        r.outcome = "intact";
+      } else {
+        spawn_fragments(index, ev, r);
+        r.outcome = "broken";
+        ++totals_.broken;
       }
-    const RigidMoments after = moments(children);
-    // Scales for the relative errors that stay meaningful when the parent does not spin or move:
-    // sqrt(2 M E) is the momentum of the parent's kinetic energy, times its size for angular momentum.
-    const double p_scale = std::max(before.momentum.norm(), std::sqrt(2 * before.mass * before.kinetic_energy));
-    const double l_scale = std::max(before.angular_momentum.norm(), p_scale * std::cbrt(ev.fragments.input_volume));
-    r.mass_error = std::abs(after.mass - before.mass) / before.mass;
-    r.momentum_error = relative(after.momentum, before.momentum, p_scale);
-    r.angular_momentum_error = relative(after.angular_momentum, before.angular_momentum, l_scale);
-    r.energy_ratio = before.kinetic_energy > 0 ? after.kinetic_energy / before.kinetic_energy : 1.0;
-    r.seconds_spawn = seconds_since(t_spawn);
-    totals_.seconds_spawn += r.seconds_spawn;
-    r.outcome = "broken";
-    ++totals_.broken;
+    }
   } catch (const core::Error& e) {
     // thesis loop goes on: the body keeps flying unbroken and the shot is not lost
     r.outcome = "failed";

@@ -172,7 +172,18 @@ class ShatterLoop {
  private:
   int add_piece(Piece piece, const rigid::BodyDesc& body);
   brittle::HertzBody hertz_body(int body, const rigid::Vec3& point) const;
+  // One fracture event (thesis secs. 3.2 and 3.6.2): the load, the MPM run, the cut, the spawn.
   void fracture(size_t piece, const BodyImpact& impact);
+  // The impact as ghost-particle load in the piece's material frame, with the Hertz contact time.
+  brittle::Impact event_load(size_t piece, const BodyImpact& impact, const brittle::BrittleSolid& solid,
+                             EventRecord& r) const;
+  // The quasi-static MPM run; false when the observer abandoned it.
+  bool run_event_mpm(const Piece& p, brittle::BrittleSolid& solid, const std::vector<brittle::GhostParticle>& ghosts,
+                     EventRecord& r);
+  // Crack extraction and cut, along the breakage order when damage fills the body.
+  brittle::FractureEvent cut_fragments(const Piece& p, const brittle::BrittleSolid& solid, EventRecord& r);
+  // Replaces the piece by its fragments and books the conservation errors.
+  void spawn_fragments(size_t piece, const brittle::FractureEvent& ev, EventRecord& r);
   std::shared_ptr<const brittle::BrittleSolid> particles_for(const Piece& p);
 
   ShatterOptions options_;
