@@ -171,29 +171,24 @@ void refresh_moved_geometry(VoronoiDiagram& d, const std::vector<int>& movable, 
   }
 }
 
-}  // namespace
+// How each staircase corner may move: its neighbours along staircase edges by kind (junction: three or
+// more regions around the edge; rim: one square; sheet: the rest), and what a movable corner is averaged
+// over (`along`; empty: fixed).
+struct CornerRoles {
+  std::vector<std::vector<int>> sheet, rim, junction, along;
+  bool on_sheet(size_t c) const { return !along[c].empty() && junction[c].empty() && rim[c].empty(); }
+};
 
-size_t folded_tetrahedra(const VoronoiDiagram& d, const std::vector<Vec3>& reference) {
-  size_t folded = 0;
-  for (const VoronoiFace& face : d.faces) folded += min_tetrahedron(d, reference.empty() ? d.sites : reference, face, false) > 0 ? 0 : 1;
-  return folded;
-}
-
-CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<char>& smooth, double h,
-                                        const CrackSmoothingOptions& o) {
-  CrackSmoothingReport report;
-  const size_t nv = d.vertices.size();
-  if (!(h > 0) || nv == 0) return report;
-  const Staircase stairs(d, smooth, h);
-  if (stairs.edges.empty()) return report;
-  const std::vector<Eigen::Vector3i>& corner_at = stairs.corner_at;
-  const size_t nc = corner_at.size();
-  // Corner neighbours along staircase edges, split by kind: junction (three or more regions around),
-  // rim (one square), sheet (the rest).
-  std::vector<std::vector<int>> sheet(nc), rim(nc), junction(nc);
+CornerRoles corner_roles(const VoronoiDiagram& d, const Staircase& stairs, double h, CrackSmoothingReport& report) {
+  const size_t nc = stairs.corner_at.size();
+  CornerRoles r;
+  r.sheet.resize(nc);
+  r.rim.resize(nc);
+  r.junction.resize(nc);
+  r.along.resize(nc);
   for (const auto& [key, e] : stairs.edges) {
     const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
-    auto& list = e.labels.size() >= 3 ? junction : e.squares == 1 ? rim : sheet;
+    auto& list = e.labels.size() >= 3 ? r.junction : e.squares == 1 ? r.rim : r.sheet;
     list[static_cast<size_t>(a)].push_back(b);
     list[static_cast<size_t>(b)].push_back(a);
   }
@@ -211,167 +206,139 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
       if (!site_node.count(lattice_key(k + Eigen::Vector3i(i & 1, (i >> 1) & 1, (i >> 2) & 1)))) return false;
     return true;
   };
-  std::vector<std::vector<int>> along(nc);  // what a movable corner is averaged over (empty: fixed)
   for (size_t c = 0; c < nc; ++c) {
-    if (sheet[c].empty() && rim[c].empty() && junction[c].empty()) continue;  // a sliver's corner only
-    if (!inside(corner_at[c])) {
+    if (r.sheet[c].empty() && r.rim[c].empty() && r.junction[c].empty()) continue;  // a sliver's corner only
+    if (!inside(stairs.corner_at[c])) {
       ++report.fixed_corners;
       continue;
     }
-    if (!junction[c].empty()) {
-      if (junction[c].size() == 2) along[c] = junction[c];
-    } else if (!rim[c].empty()) {
-      if (rim[c].size() == 2) along[c] = rim[c];
+    if (!r.junction[c].empty()) {
+      if (r.junction[c].size() == 2) r.along[c] = r.junction[c];
+    } else if (!r.rim[c].empty()) {
+      if (r.rim[c].size() == 2) r.along[c] = r.rim[c];
     } else {
-      along[c] = sheet[c];
+      r.along[c] = r.sheet[c];
     }
-    std::sort(along[c].begin(), along[c].end());  // a sum in the same order on every platform
-    if (along[c].empty()) ++report.fixed_corners;
-    else (junction[c].empty() && rim[c].empty() ? report.sheet_corners : report.curve_corners) += 1;
+    std::sort(r.along[c].begin(), r.along[c].end());  // a sum in the same order on every platform
+    if (r.along[c].empty()) ++report.fixed_corners;
+    else (r.junction[c].empty() && r.rim[c].empty() ? report.sheet_corners : report.curve_corners) += 1;
   }
-  // Each vertex near the staircase: its cube's eight corners with their trilinear weights.
-  std::vector<uint8_t> walls(nv, 0);
-  std::vector<std::vector<int>> faces_of(nv);
-  for (size_t f = 0; f < d.faces.size(); ++f)
-    for (int v : d.faces[f].vertices) {
-      faces_of[static_cast<size_t>(v)].push_back(static_cast<int>(f));
-      if (d.faces[f].wall()) walls[static_cast<size_t>(v)] |= static_cast<uint8_t>(1u << (-d.faces[f].cell_b - 1));
+  return r;
+}
+
+// The relaxation of the staircase: corner shifts, the diagram vertices and the cells' reference points
+// that follow them through their stencils, and the faces whose cells must not fold.
+class StaircaseRelaxation {
+ public:
+  StaircaseRelaxation(VoronoiDiagram& d, const Staircase& stairs, const CornerRoles& roles, double h,
+                      CrackSmoothingReport& report)
+      : d_(d), stairs_(stairs), roles_(roles), h_(h), report_(report), original_(d.vertices), reference_(d.sites) {
+    const size_t nv = d.vertices.size(), nc = stairs.corner_at.size();
+    walls_.assign(nv, 0);
+    faces_of_.resize(nv);
+    for (size_t f = 0; f < d.faces.size(); ++f)
+      for (int v : d.faces[f].vertices) {
+        faces_of_[static_cast<size_t>(v)].push_back(static_cast<int>(f));
+        if (d.faces[f].wall()) walls_[static_cast<size_t>(v)] |= static_cast<uint8_t>(1u << (-d.faces[f].cell_b - 1));
+      }
+    // Each vertex near the staircase: its cube's eight corners with their trilinear weights.
+    for (size_t v = 0; v < nv; ++v) {
+      Stencil s;
+      const uint8_t w = walls_[v];
+      const int wall_count = (w & 1) + (w >> 1 & 1) + (w >> 2 & 1) + (w >> 3 & 1) + (w >> 4 & 1) + (w >> 5 & 1);
+      if (stairs.stencil(roles.along, static_cast<int>(v), d.vertices[v], s) && wall_count < 3) stencils_.push_back(s);
     }
-  const auto make_stencil = [&](int id, const Vec3& x, Stencil& st) { return stairs.stencil(along, id, x, st); };
-  std::vector<Stencil> stencils;
-  for (size_t v = 0; v < nv; ++v) {
-    Stencil s;
-    const uint8_t w = walls[v];
-    const int wall_count = (w & 1) + (w >> 1 & 1) + (w >> 2 & 1) + (w >> 3 & 1) + (w >> 4 & 1) + (w >> 5 & 1);
-    if (make_stencil(static_cast<int>(v), d.vertices[v], s) && wall_count < 3) stencils.push_back(s);
-  }
-  // The sites move with the same deformation as reference points of the fold test (the diagram's sites
-  // stay): a tetrahedron (site, face triangle) then folds only where the deformation itself does.
-  std::vector<Stencil> site_stencils;
-  for (size_t c = 0; c < d.num_cells(); ++c) {
-    Stencil s;
-    if (make_stencil(static_cast<int>(c), d.sites[c], s)) site_stencils.push_back(s);
-  }
-  std::vector<Vec3> reference = d.sites;
-  std::vector<int> site_stencil_of(d.num_cells(), -1);
-  for (size_t i = 0; i < site_stencils.size(); ++i) site_stencil_of[static_cast<size_t>(site_stencils[i].vertex)] = static_cast<int>(i);
-  std::vector<int> stencil_of(nv, -1);
-  for (size_t i = 0; i < stencils.size(); ++i) stencil_of[static_cast<size_t>(stencils[i].vertex)] = static_cast<int>(i);
-  std::vector<int> check;  // faces around the vertices that can move
-  {
+    // The sites move with the same deformation as reference points of the fold test (the diagram's sites
+    // stay): a tetrahedron (site, face triangle) then folds only where the deformation itself does.
+    for (size_t c = 0; c < d.num_cells(); ++c) {
+      Stencil s;
+      if (stairs.stencil(roles.along, static_cast<int>(c), d.sites[c], s)) site_stencils_.push_back(s);
+    }
+    site_stencil_of_.assign(d.num_cells(), -1);
+    for (size_t i = 0; i < site_stencils_.size(); ++i) site_stencil_of_[static_cast<size_t>(site_stencils_[i].vertex)] = static_cast<int>(i);
+    stencil_of_.assign(nv, -1);
+    for (size_t i = 0; i < stencils_.size(); ++i) stencil_of_[static_cast<size_t>(stencils_[i].vertex)] = static_cast<int>(i);
+    // The faces around the vertices that can move.
     std::vector<char> in(d.faces.size(), 0);
     auto add = [&](int f) {
       if (!in[static_cast<size_t>(f)]) {
         in[static_cast<size_t>(f)] = 1;
-        check.push_back(f);
+        check_.push_back(f);
       }
     };
-    for (const Stencil& s : stencils)
-      for (int f : faces_of[static_cast<size_t>(s.vertex)]) add(f);
-    for (const Stencil& s : site_stencils)
+    for (const Stencil& s : stencils_)
+      for (int f : faces_of_[static_cast<size_t>(s.vertex)]) add(f);
+    for (const Stencil& s : site_stencils_)
       for (int f : d.cell_faces[static_cast<size_t>(s.vertex)]) add(f);
-    std::sort(check.begin(), check.end());
+    std::sort(check_.begin(), check_.end());
+    // A face fails when a tetrahedron falls below this (six times its volume): far above the round-off of
+    // the determinant and far below the cells (h^3 / 8 and more) and most jitter faces (about 1e-3 h^3);
+    // a face of the diagram already below it (a speck left by the welding) must keep a quarter of its own.
+    floor_of_.resize(check_.size());
+    for (size_t i = 0; i < check_.size(); ++i)
+      floor_of_[i] = std::min(1e-9 * h * h * h, 0.25 * min_tetrahedron(d, d.sites, d.faces[static_cast<size_t>(check_[i])], true));
+    shift_.assign(nc, Vec3::Zero());
+    previous_.resize(nc);
+    target_.resize(nc);
+    halved_.assign(nc, 0);
   }
-  const std::vector<Vec3> original = d.vertices;
-  // A face fails when a tetrahedron falls below this (six times its volume): far above the round-off of
-  // the determinant and far below the cells (h^3 / 8 and more) and most jitter faces (about 1e-3 h^3);
-  // a face of the diagram already below it (a speck left by the welding) must keep a quarter of its own.
-  std::vector<double> floor_of(check.size());
-  for (size_t i = 0; i < check.size(); ++i)
-    floor_of[i] = std::min(1e-9 * h * h * h, 0.25 * min_tetrahedron(d, d.sites, d.faces[static_cast<size_t>(check[i])], true));
-  std::vector<Vec3> shift(nc, Vec3::Zero()), previous(nc), target(nc);
-  std::vector<int> halved(nc, 0);
-  auto place = [&]() {
-    for (const Stencil& s : stencils) {
-      Vec3 u = Vec3::Zero();
-      for (size_t k = 0; k < 8; ++k)
-        if (s.corner[k] >= 0) u += s.weight[k] * shift[static_cast<size_t>(s.corner[k])];
-      const uint8_t w = walls[static_cast<size_t>(s.vertex)];
-      for (int a = 0; a < 3; ++a)
-        if (w >> (2 * a) & 3u) u[a] = 0;  // stays in the wall's plane
-      d.vertices[static_cast<size_t>(s.vertex)] = original[static_cast<size_t>(s.vertex)] + u;
-    }
-    for (const Stencil& s : site_stencils) {
-      Vec3 u = Vec3::Zero();
-      for (size_t k = 0; k < 8; ++k)
-        if (s.corner[k] >= 0) u += s.weight[k] * shift[static_cast<size_t>(s.corner[k])];
-      reference[static_cast<size_t>(s.vertex)] = d.sites[static_cast<size_t>(s.vertex)] + u;
-    }
-  };
-  auto corner_position = [&](size_t c) { return Vec3((corner_at[c].cast<double>() + Vec3::Constant(0.5)) * h + shift[c]); };
-  for (int pass = 0; pass < o.passes; ++pass) {
-    const double step = o.lambda;
-    // Umbrella operator with uniform weights, all corners from the same positions (Jacobi).
+
+  // One Jacobi step of the umbrella operator (uniform weights), then the corners around every face that
+  // would fold a cell are put back, until none does; the state before the step was valid, so this ends.
+  void pass(const CrackSmoothingOptions& o) {
+    const size_t nc = shift_.size();
     for (size_t c = 0; c < nc; ++c) {
-      target[c] = shift[c];
-      if (along[c].empty()) continue;
+      target_[c] = shift_[c];
+      const std::vector<int>& along = roles_.along[c];
+      if (along.empty()) continue;
       Vec3 mean = Vec3::Zero();
-      for (int u : along[c]) mean += corner_position(static_cast<size_t>(u));
-      mean /= static_cast<double>(along[c].size());
-      target[c] += step * (mean - corner_position(c));
+      for (int u : along) mean += corner_position(static_cast<size_t>(u));
+      mean /= static_cast<double>(along.size());
+      target_[c] += o.lambda * (mean - corner_position(c));
       // A corner stays inside its cube of lattice nodes (as in constrained surface nets): the sheet keeps
       // to within half a cell of the staircase and neighbouring cubes cannot collapse.
-      target[c] = target[c].cwiseMax(Vec3::Constant(-o.reach * h)).cwiseMin(Vec3::Constant(o.reach * h));
+      target_[c] = target_[c].cwiseMax(Vec3::Constant(-o.reach * h_)).cwiseMin(Vec3::Constant(o.reach * h_));
     }
-    previous = shift;
-    shift = target;
-    std::fill(halved.begin(), halved.end(), 0);
-    // Put back the corners around every face that would fold a cell, until none does; the state before
-    // the step was valid, so this ends.
+    previous_ = shift_;
+    shift_ = target_;
+    std::fill(halved_.begin(), halved_.end(), 0);
     for (bool changed = true; changed;) {
-      changed = false;
       place();
-      for (size_t i = 0; i < check.size(); ++i) {
-        const VoronoiFace& face = d.faces[static_cast<size_t>(check[i])];
-        if (min_tetrahedron(d, reference, face, true) > floor_of[i]) continue;
-        std::vector<const Stencil*> movers;  // what moves the face's vertices and its cells' reference points
-        for (int v : face.vertices)
-          if (stencil_of[static_cast<size_t>(v)] >= 0) movers.push_back(&stencils[static_cast<size_t>(stencil_of[static_cast<size_t>(v)])]);
-        for (int cell : {face.cell_a, face.cell_b})
-          if (cell >= 0 && site_stencil_of[static_cast<size_t>(cell)] >= 0)
-            movers.push_back(&site_stencils[static_cast<size_t>(site_stencil_of[static_cast<size_t>(cell)])]);
-        for (const Stencil* mover : movers) {
-          for (int ci : mover->corner) {
-            if (ci < 0) continue;
-            const size_t c = static_cast<size_t>(ci);
-            if (shift[c] != previous[c]) {
-              // Half the step, twice; then none.
-              shift[c] = ++halved[c] > 2 ? previous[c] : Vec3(0.5 * (shift[c] + previous[c]));
-              ++report.rejected_moves;
-              changed = true;
-            }
-          }
-        }
-      }
+      changed = false;
+      for (size_t i = 0; i < check_.size(); ++i)
+        if (min_tetrahedron(d_, reference_, d_.faces[static_cast<size_t>(check_[i])], true) <= floor_of_[i])
+          changed = back_off(d_.faces[static_cast<size_t>(check_[i])]) || changed;
     }
   }
+
   // The vertices of a sheet face near a corner came from one cube corner of the staircase and still lie in
   // that cube face's (axis-aligned) plane: moved together, they leave a step a tenth of a cell high at
   // every corner. Each is projected onto the sheet's tangent plane at its corner (the normal from the
   // moved squares around it); a projection that would fold a cell is undone.
-  {
+  void project_on_tangent_planes(const std::vector<char>& smooth) {
+    const size_t nc = shift_.size(), nv = d_.vertices.size();
     std::vector<Vec3> normal(nc, Vec3::Zero());
-    for (const Staircase::Square& q : stairs.squares) {
+    for (const Staircase::Square& q : stairs_.squares) {
       Vec3 n = Vec3::Zero();
       for (size_t i = 0; i < q.corners.size(); ++i)
         n += corner_position(static_cast<size_t>(q.corners[i])).cross(corner_position(static_cast<size_t>(q.corners[(i + 1) % q.corners.size()])));
       for (int c : q.corners) normal[static_cast<size_t>(c)] += n;
     }
     std::vector<char> on_sheet(nv, 0);
-    for (size_t f = 0; f < d.faces.size() && f < smooth.size(); ++f)
-      if (smooth[f] && !d.faces[f].wall())
-        for (int v : d.faces[f].vertices) on_sheet[static_cast<size_t>(v)] = 1;
-    const std::vector<Vec3> before = d.vertices;
+    for (size_t f = 0; f < d_.faces.size() && f < smooth.size(); ++f)
+      if (smooth[f] && !d_.faces[f].wall())
+        for (int v : d_.faces[f].vertices) on_sheet[static_cast<size_t>(v)] = 1;
+    const std::vector<Vec3> before = d_.vertices;
     std::vector<int> projected;
-    for (const Stencil& st : stencils) {
+    for (const Stencil& st : stencils_) {
       const size_t v = static_cast<size_t>(st.vertex);
-      if (!on_sheet[v] || walls[v]) continue;
-      const auto it = stairs.corner_id.find(lattice_key(stairs.nearest_corner(original[v])));
-      if (it == stairs.corner_id.end()) continue;
+      if (!on_sheet[v] || walls_[v]) continue;
+      const auto it = stairs_.corner_id.find(lattice_key(stairs_.nearest_corner(original_[v])));
+      if (it == stairs_.corner_id.end()) continue;
       const size_t c = static_cast<size_t>(it->second);
-      if (along[c].empty() || !junction[c].empty() || !rim[c].empty() || !(normal[c].norm() > 0)) continue;  // sheet corners only
+      if (!roles_.on_sheet(c) || !(normal[c].norm() > 0)) continue;  // sheet corners only
       const Vec3 n = normal[c].normalized();
-      d.vertices[v] -= (d.vertices[v] - corner_position(c)).dot(n) * n;
+      d_.vertices[v] -= (d_.vertices[v] - corner_position(c)).dot(n) * n;
       projected.push_back(static_cast<int>(v));
     }
     std::vector<char> is_projected(nv, 0);
@@ -380,26 +347,114 @@ CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<cha
       changed = false;
       for (int vi : projected) {
         if (!is_projected[static_cast<size_t>(vi)]) continue;
-        for (int f : faces_of[static_cast<size_t>(vi)]) {
-          const VoronoiFace& face = d.faces[static_cast<size_t>(f)];
-          const size_t i = static_cast<size_t>(std::lower_bound(check.begin(), check.end(), f) - check.begin());
-          const double floor = i < check.size() && check[i] == f ? floor_of[i] : 1e-9 * h * h * h;
-          if (min_tetrahedron(d, reference, face, true) > floor) continue;
+        for (int f : faces_of_[static_cast<size_t>(vi)]) {
+          const VoronoiFace& face = d_.faces[static_cast<size_t>(f)];
+          const size_t i = static_cast<size_t>(std::lower_bound(check_.begin(), check_.end(), f) - check_.begin());
+          const double floor = i < check_.size() && check_[i] == f ? floor_of_[i] : 1e-9 * h_ * h_ * h_;
+          if (min_tetrahedron(d_, reference_, face, true) > floor) continue;
           for (int u : face.vertices)
             if (is_projected[static_cast<size_t>(u)]) {
-              d.vertices[static_cast<size_t>(u)] = before[static_cast<size_t>(u)];
+              d_.vertices[static_cast<size_t>(u)] = before[static_cast<size_t>(u)];
               is_projected[static_cast<size_t>(u)] = 0;
-              ++report.rejected_moves;
+              ++report_.rejected_moves;
               changed = true;
             }
         }
       }
     }
   }
-  std::vector<int> movable;
-  for (const Stencil& st : stencils) movable.push_back(st.vertex);
-  refresh_moved_geometry(d, movable, original, faces_of, report);
-  report.reference = std::move(reference);
+
+  void finish() {
+    std::vector<int> movable;
+    for (const Stencil& st : stencils_) movable.push_back(st.vertex);
+    refresh_moved_geometry(d_, movable, original_, faces_of_, report_);
+    report_.reference = std::move(reference_);
+  }
+
+ private:
+  Vec3 corner_position(size_t c) const {
+    return Vec3((stairs_.corner_at[c].cast<double>() + Vec3::Constant(0.5)) * h_ + shift_[c]);
+  }
+
+  static Vec3 displacement(const Stencil& s, const std::vector<Vec3>& shift) {
+    Vec3 u = Vec3::Zero();
+    for (size_t k = 0; k < 8; ++k)
+      if (s.corner[k] >= 0) u += s.weight[k] * shift[static_cast<size_t>(s.corner[k])];
+    return u;
+  }
+
+  // Moves the vertices and the reference points with the corners' shifts.
+  void place() {
+    for (const Stencil& s : stencils_) {
+      Vec3 u = displacement(s, shift_);
+      const uint8_t w = walls_[static_cast<size_t>(s.vertex)];
+      for (int a = 0; a < 3; ++a)
+        if (w >> (2 * a) & 3u) u[a] = 0;  // stays in the wall's plane
+      d_.vertices[static_cast<size_t>(s.vertex)] = original_[static_cast<size_t>(s.vertex)] + u;
+    }
+    for (const Stencil& s : site_stencils_)
+      reference_[static_cast<size_t>(s.vertex)] = d_.sites[static_cast<size_t>(s.vertex)] + displacement(s, shift_);
+  }
+
+  // Takes back the step of every corner that moves the folding face's vertices or its cells' reference
+  // points: half the step, twice; then none. True if any corner changed.
+  bool back_off(const VoronoiFace& face) {
+    std::vector<const Stencil*> movers;
+    for (int v : face.vertices)
+      if (stencil_of_[static_cast<size_t>(v)] >= 0) movers.push_back(&stencils_[static_cast<size_t>(stencil_of_[static_cast<size_t>(v)])]);
+    for (int cell : {face.cell_a, face.cell_b})
+      if (cell >= 0 && site_stencil_of_[static_cast<size_t>(cell)] >= 0)
+        movers.push_back(&site_stencils_[static_cast<size_t>(site_stencil_of_[static_cast<size_t>(cell)])]);
+    bool changed = false;
+    for (const Stencil* mover : movers)
+      for (int ci : mover->corner) {
+        if (ci < 0) continue;
+        const size_t c = static_cast<size_t>(ci);
+        if (shift_[c] != previous_[c]) {
+          shift_[c] = ++halved_[c] > 2 ? previous_[c] : Vec3(0.5 * (shift_[c] + previous_[c]));
+          ++report_.rejected_moves;
+          changed = true;
+        }
+      }
+    return changed;
+  }
+
+  VoronoiDiagram& d_;
+  const Staircase& stairs_;
+  const CornerRoles& roles_;
+  double h_;
+  CrackSmoothingReport& report_;
+  const std::vector<Vec3> original_;  // the diagram's vertices before any move
+  std::vector<Vec3> reference_;       // per cell, its site moved with the deformation
+  std::vector<uint8_t> walls_;        // per vertex, the container walls it lies on (bit 2a + side)
+  std::vector<std::vector<int>> faces_of_;
+  std::vector<Stencil> stencils_, site_stencils_;
+  std::vector<int> stencil_of_, site_stencil_of_;
+  std::vector<int> check_;        // faces whose cells must not fold, sorted
+  std::vector<double> floor_of_;  // their lowest allowed tetrahedron
+  std::vector<Vec3> shift_, previous_, target_;  // per corner
+  std::vector<int> halved_;
+};
+
+}  // namespace
+
+size_t folded_tetrahedra(const VoronoiDiagram& d, const std::vector<Vec3>& reference) {
+  size_t folded = 0;
+  for (const VoronoiFace& face : d.faces) folded += min_tetrahedron(d, reference.empty() ? d.sites : reference, face, false) > 0 ? 0 : 1;
+  return folded;
+}
+
+CrackSmoothingReport smooth_crack_faces(VoronoiDiagram& d, const std::vector<char>& smooth, double h,
+                                        const CrackSmoothingOptions& o) {
+  CrackSmoothingReport report;
+  if (!(h > 0) || d.vertices.empty()) return report;
+  const Staircase stairs(d, smooth, h);
+  if (stairs.edges.empty()) return report;
+  const CornerRoles roles = corner_roles(d, stairs, h, report);
+  StaircaseRelaxation relax(d, stairs, roles, h, report);
+  for (int pass = 0; pass < o.passes; ++pass) relax.pass(o);
+  relax.project_on_tangent_planes(smooth);
+  relax.finish();
   return report;
 }
 
