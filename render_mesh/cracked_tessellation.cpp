@@ -430,20 +430,14 @@ int count_face_components(int num_vertices, const std::vector<int>& offsets, con
 
 }  // namespace
 
-ParameterMesh split_parameter_grid(const ParameterDomain& domain, const std::vector<CrackSegment2>& crack,
-                                   const CrackedTessellationSettings& settings) {
-  const int R = settings.resolution_u, S = settings.resolution_v;
-  if (R < 1 || S < 1) throw std::invalid_argument("render resolution must be at least 1 x 1");
-  if (!(domain.u1 > domain.u0) || !(domain.v1 > domain.v0))
-    throw std::invalid_argument("patch parameter domain must satisfy u0 < u1 and v0 < v1");
-  VertexRegistry reg(domain, R, S);
-  const GridEdges edges{R, S};
-  const double tol = reg.tolerance();
+namespace {
 
-  // Algorithm 5 lines 7-12: cut every crack segment at the grid lines; each piece falls in one quad's
-  // bucket, or lies on a quad edge.
-  std::map<int, CrackedQuad> quads;  // ordered: deterministic output
-  EdgeCracks edge_cracks;
+// Algorithm 5 lines 7-12: cuts every crack segment at the grid lines; each piece falls in one quad's
+// bucket (`quads`, by i + R j), or lies on an interior quad edge (`edge_cracks`).
+void cut_at_grid_lines(const std::vector<CrackSegment2>& crack, const ParameterDomain& domain, const GridEdges& edges,
+                       VertexRegistry& reg, std::map<int, CrackedQuad>& quads, EdgeCracks& edge_cracks) {
+  const int R = edges.R, S = edges.S;
+  const double tol = reg.tolerance();
   auto mark = [&](int id) { reg.on_crack[static_cast<size_t>(id)] = reg.used[static_cast<size_t>(id)] = 1; };
   for (const CrackSegment2& segment : crack) {
     Vec2 a = segment.a, b = segment.b;
@@ -495,27 +489,115 @@ ParameterMesh split_parameter_grid(const ParameterDomain& domain, const std::vec
       mark(q);
     }
   }
+}
 
+// The faces of the split grid, quad by quad: untouched quads as in tessellate(), the others as the
+// polygons their boundary and crack pieces enclose.
+class QuadFaces {
+ public:
+  QuadFaces(const VertexRegistry& reg, const GridEdges& edges, const std::map<int, CrackedQuad>& quads,
+            const EdgeCracks& edge_cracks, const std::vector<int>& index, ParameterMesh& mesh)
+      : reg_(reg), edges_(edges), quads_(quads), edge_cracks_(edge_cracks), index_(index), mesh_(mesh) {
+    // Vertices inside quad edges, shared by the quads on both sides.
+    for (int id = reg.num_grid_vertices(); id < reg.size(); ++id)
+      if (reg.used[static_cast<size_t>(id)]) on_edge_[edges.of_vertex(reg, id)].push_back(id);
+  }
+
+  void add(int i, int j) {
+    const int c0 = reg_.grid_vertex(i, j), c1 = reg_.grid_vertex(i + 1, j);
+    const int c2 = reg_.grid_vertex(i + 1, j + 1), c3 = reg_.grid_vertex(i, j + 1);
+    const auto found = quads_.find(i + edges_.R * j);
+    const long long sides[4] = {edges_.horizontal(i, j), edges_.vertical(i + 1, j), edges_.horizontal(i, j + 1),
+                                edges_.vertical(i, j)};
+    if (found == quads_.end() && std::none_of(sides, sides + 4, [&](long long e) {
+          return on_edge_.count(e) > 0 || edge_cracks_.count(e) > 0;
+        })) {  // untouched quad, as in tessellate()
+      for (int id : {c0, c1, c2, c3}) mesh_.face_vertices.push_back(index_[static_cast<size_t>(id)]);
+      mesh_.crack_edge.insert(mesh_.crack_edge.end(), 4, 0);
+      mesh_.face_offsets.push_back(static_cast<int>(mesh_.face_vertices.size()));
+      return;
+    }
+    // The boundary counter-clockwise about du x dv as in tessellate(), with the quad side each
+    // boundary piece lies on.
+    std::vector<int> loop;
+    std::vector<long long> side_of;
+    auto add_side = [&](int corner, long long edge, int axis, bool ascending) {
+      loop.push_back(corner);
+      for (int id : edge_points(edge, axis, ascending)) loop.push_back(id);
+      side_of.resize(loop.size(), edge);
+    };
+    add_side(c0, sides[0], 0, true);
+    add_side(c1, sides[1], 1, true);
+    add_side(c2, sides[2], 0, false);
+    add_side(c3, sides[3], 1, false);
+    Polygon boundary;
+    for (size_t k = 0; k < loop.size(); ++k)
+      boundary.emplace_back(loop[k], along_edge_crack(side_of[k], loop[k], loop[(k + 1) % loop.size()]));
+    polygons_.clear();
+    if (found == quads_.end())
+      polygons_.push_back(boundary);
+    else
+      trace_polygons(boundary, found->second.pieces, reg_, polygons_);
+    for (const Polygon& polygon : polygons_) {
+      for (const auto& [id, crack_edge] : polygon) {
+        mesh_.face_vertices.push_back(index_[static_cast<size_t>(id)]);
+        mesh_.crack_edge.push_back(crack_edge ? 1 : 0);
+      }
+      mesh_.face_offsets.push_back(static_cast<int>(mesh_.face_vertices.size()));
+    }
+  }
+
+ private:
+  // The vertices inside a quad edge, sorted along it.
+  std::vector<int> edge_points(long long edge, int axis, bool ascending) const {
+    std::vector<int> ids;
+    const auto found = on_edge_.find(edge);
+    if (found == on_edge_.end()) return ids;
+    ids = found->second;
+    std::sort(ids.begin(), ids.end(), [&](int x, int y) {
+      const double px = reg_.points[static_cast<size_t>(x)][axis], py = reg_.points[static_cast<size_t>(y)][axis];
+      return ascending ? px < py : px > py;
+    });
+    return ids;
+  }
+
+  // A boundary piece of a quad is a crack edge where a crack runs along that quad edge.
+  bool along_edge_crack(long long edge, int a, int b) const {
+    const auto found = edge_cracks_.find(edge);
+    if (found == edge_cracks_.end()) return false;
+    const Vec2 mid = 0.5 * (reg_.points[static_cast<size_t>(a)] + reg_.points[static_cast<size_t>(b)]);
+    for (const auto& [p, q] : found->second)
+      if ((mid - reg_.points[static_cast<size_t>(p)]).dot(mid - reg_.points[static_cast<size_t>(q)]) < 0.0) return true;
+    return false;
+  }
+
+  const VertexRegistry& reg_;
+  const GridEdges& edges_;
+  const std::map<int, CrackedQuad>& quads_;
+  const EdgeCracks& edge_cracks_;
+  const std::vector<int>& index_;
+  ParameterMesh& mesh_;
+  std::unordered_map<long long, std::vector<int>> on_edge_;
+  std::vector<Polygon> polygons_;
+};
+
+}  // namespace
+
+ParameterMesh split_parameter_grid(const ParameterDomain& domain, const std::vector<CrackSegment2>& crack,
+                                   const CrackedTessellationSettings& settings) {
+  const int R = settings.resolution_u, S = settings.resolution_v;
+  if (R < 1 || S < 1) throw std::invalid_argument("render resolution must be at least 1 x 1");
+  if (!(domain.u1 > domain.u0) || !(domain.v1 > domain.v0))
+    throw std::invalid_argument("patch parameter domain must satisfy u0 < u1 and v0 < v1");
+  VertexRegistry reg(domain, R, S);
+  const GridEdges edges{R, S};
+  std::map<int, CrackedQuad> quads;  // ordered: deterministic output
+  EdgeCracks edge_cracks;
+  cut_at_grid_lines(crack, domain, edges, reg, quads, edge_cracks);
   for (auto& entry : quads) {
     make_pieces_planar(entry.second, reg);
     bridge_floating_cracks(entry.second, reg, edges, edge_cracks);
   }
-
-  // Vertices inside quad edges, sorted along the edge, shared by the quads on both sides.
-  std::unordered_map<long long, std::vector<int>> on_edge;
-  for (int id = reg.num_grid_vertices(); id < reg.size(); ++id)
-    if (reg.used[static_cast<size_t>(id)]) on_edge[edges.of_vertex(reg, id)].push_back(id);
-  auto edge_points = [&](long long edge, int axis, bool ascending) {
-    std::vector<int> ids;
-    const auto found = on_edge.find(edge);
-    if (found == on_edge.end()) return ids;
-    ids = found->second;
-    std::sort(ids.begin(), ids.end(), [&](int x, int y) {
-      const double px = reg.points[static_cast<size_t>(x)][axis], py = reg.points[static_cast<size_t>(y)][axis];
-      return ascending ? px < py : px > py;
-    });
-    return ids;
-  };
 
   // Compact numbering: grid vertices as in tessellate(), then the used extra vertices.
   std::vector<int> index(static_cast<size_t>(reg.size()), -1);
@@ -528,61 +610,9 @@ ParameterMesh split_parameter_grid(const ParameterDomain& domain, const std::vec
     }
   mesh.source_vertex.resize(mesh.uv.size());
   std::iota(mesh.source_vertex.begin(), mesh.source_vertex.end(), 0);
-
-  // A boundary piece of a quad is a crack edge where a crack runs along that quad edge.
-  auto along_edge_crack = [&](long long edge, int a, int b) {
-    const auto found = edge_cracks.find(edge);
-    if (found == edge_cracks.end()) return false;
-    const Vec2 mid = 0.5 * (reg.points[static_cast<size_t>(a)] + reg.points[static_cast<size_t>(b)]);
-    for (const auto& [p, q] : found->second)
-      if ((mid - reg.points[static_cast<size_t>(p)]).dot(mid - reg.points[static_cast<size_t>(q)]) < 0.0) return true;
-    return false;
-  };
-  std::vector<Polygon> polygons;
+  QuadFaces faces(reg, edges, quads, edge_cracks, index, mesh);
   for (int j = 0; j < S; ++j)
-    for (int i = 0; i < R; ++i) {
-      const int c0 = reg.grid_vertex(i, j), c1 = reg.grid_vertex(i + 1, j);
-      const int c2 = reg.grid_vertex(i + 1, j + 1), c3 = reg.grid_vertex(i, j + 1);
-      const auto found = quads.find(i + R * j);
-      const long long sides[4] = {edges.horizontal(i, j), edges.vertical(i + 1, j), edges.horizontal(i, j + 1),
-                                  edges.vertical(i, j)};
-      if (found == quads.end() && std::none_of(sides, sides + 4, [&](long long e) {
-            return on_edge.count(e) > 0 || edge_cracks.count(e) > 0;
-          })) {  // untouched quad, as in tessellate()
-        for (int id : {c0, c1, c2, c3}) mesh.face_vertices.push_back(index[static_cast<size_t>(id)]);
-        mesh.crack_edge.insert(mesh.crack_edge.end(), 4, 0);
-        mesh.face_offsets.push_back(static_cast<int>(mesh.face_vertices.size()));
-        continue;
-      }
-      // The boundary counter-clockwise about du x dv as in tessellate(), with the quad side each
-      // boundary piece lies on.
-      std::vector<int> loop;
-      std::vector<long long> side_of;
-      auto add_side = [&](int corner, long long edge, int axis, bool ascending) {
-        loop.push_back(corner);
-        for (int id : edge_points(edge, axis, ascending)) loop.push_back(id);
-        side_of.resize(loop.size(), edge);
-      };
-      add_side(c0, edges.horizontal(i, j), 0, true);
-      add_side(c1, edges.vertical(i + 1, j), 1, true);
-      add_side(c2, edges.horizontal(i, j + 1), 0, false);
-      add_side(c3, edges.vertical(i, j), 1, false);
-      Polygon boundary;
-      for (size_t k = 0; k < loop.size(); ++k)
-        boundary.emplace_back(loop[k], along_edge_crack(side_of[k], loop[k], loop[(k + 1) % loop.size()]));
-      polygons.clear();
-      if (found == quads.end())
-        polygons.push_back(boundary);
-      else
-        trace_polygons(boundary, found->second.pieces, reg, polygons);
-      for (const Polygon& polygon : polygons) {
-        for (const auto& [id, crack_edge] : polygon) {
-          mesh.face_vertices.push_back(index[static_cast<size_t>(id)]);
-          mesh.crack_edge.push_back(crack_edge ? 1 : 0);
-        }
-        mesh.face_offsets.push_back(static_cast<int>(mesh.face_vertices.size()));
-      }
-    }
+    for (int i = 0; i < R; ++i) faces.add(i, j);
   return mesh;
 }
 
