@@ -171,35 +171,42 @@ SF_INLINE void lane_damage(Lanes& t11, Lanes& t12, Lanes& t22, const Lanes3& g1,
   t22 = select(damaged, b22 * i22, t22);
 }
 
-// Lanes o .. o + kLanes - 1 of the batch. Fracturing is a template parameter so that the damage law's
-// per-point values do not hold registers in the kernel of patches without it.
-template <bool Fracturing>
-SF_INLINE void lane_group(const shellfrac::shell::Type4Data& d, const shellfrac::shell::Type4Batch& b,
-                          shellfrac::shell::Type4BatchResult& out, int o) {
-  using namespace shellfrac::shell;
-  const size_t* q = b.q + o;
-  const int* const* sup = b.support + o;
-  const double* r33 = b.r33 + o;
-  const unsigned active = b.active >> o;
-  int* status = out.status + o;
-  const int n = b.n;
-  const size_t L = static_cast<size_t>(d.layers);
-  const double* B = b.basis;
-  auto basis = [&](int s, int k) {
+// The lanes' view of one group of the batch: lanes o .. o + kLanes - 1.
+struct LaneGroup {
+  const shellfrac::shell::Type4Data& d;
+  const shellfrac::shell::Type4Batch& b;
+  int o;
+  const size_t* q;            // quadrature point per lane
+  unsigned active;            // lane bits
+  size_t L;                   // layers
+  Lanes basis(int s, int k) const {  // R_s,k of support function s (k: 1, 2, 11, 12, 22)
     Lanes v;
-    __builtin_memcpy(&v, B + (s * 5 + k) * kType4Lanes + o, sizeof(Lanes));
+    __builtin_memcpy(&v, b.basis + (s * 5 + k) * shellfrac::shell::kType4Lanes + o, sizeof(Lanes));
     return v;
-  };
+  }
+};
 
+// Mid-surface jet a_alpha, x_,alpha beta (thesis Eq. 4.1) and the unit normal with its derivatives
+// (normal_jet).
+struct LaneJet {
+  Lanes3 a1, a2, a11, a12, a22;
+  Lanes3 nrm, dv1, dv2, dn1, dn2;
+  Lanes inv_len;
+  LaneMask degenerate;  // |a1 x a2| not above 1e-300
+};
+
+SF_INLINE LaneJet lane_jet(const LaneGroup& g) {
+  using namespace shellfrac::shell;
+  const int* const* sup = g.b.support + g.o;
   // Control point positions as raw doubles (Vec3 is three packed doubles): no Eigen code is instantiated
   // in this translation unit.
-  const double* xs = reinterpret_cast<const double*>(d.x);
+  const double* xs = reinterpret_cast<const double*>(g.d.x);
   static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 must be three packed doubles");
-  // Mid-surface jet a_alpha, x_,alpha beta (thesis Eq. 4.1): sum over the support of basis x position.
-  Lanes3 a1 = zero3(), a2 = zero3(), a11 = zero3(), a12 = zero3(), a22 = zero3();
-  for (int s = 0; s < n; ++s) {
+  LaneJet j;
+  j.a1 = j.a2 = j.a11 = j.a12 = j.a22 = zero3();
+  for (int s = 0; s < g.b.n; ++s) {  // sum over the support of basis x position
     Lanes3 X;
-    if (b.shared_support) {
+    if (g.b.shared_support) {
       const double* p = xs + 3 * static_cast<size_t>(sup[0][s]);
       X = {splat(p[0]), splat(p[1]), splat(p[2])};
     } else {
@@ -208,32 +215,150 @@ SF_INLINE void lane_group(const shellfrac::shell::Type4Data& d, const shellfrac:
       X = {gather([&](int i) { return p[i][0]; }), gather([&](int i) { return p[i][1]; }),
            gather([&](int i) { return p[i][2]; })};
     }
-    a1 = a1 + basis(s, 0) * X;
-    a2 = a2 + basis(s, 1) * X;
-    a11 = a11 + basis(s, 2) * X;
-    a12 = a12 + basis(s, 3) * X;
-    a22 = a22 + basis(s, 4) * X;
+    j.a1 = j.a1 + g.basis(s, 0) * X;
+    j.a2 = j.a2 + g.basis(s, 1) * X;
+    j.a11 = j.a11 + g.basis(s, 2) * X;
+    j.a12 = j.a12 + g.basis(s, 3) * X;
+    j.a22 = j.a22 + g.basis(s, 4) * X;
   }
-
-  // Unit normal and its derivatives (normal_jet).
-  const Lanes3 v = cross(a1, a2);
+  const Lanes3 v = cross(j.a1, j.a2);
   const Lanes len = vsqrt(dot(v, v));
-  LaneMask failed = ~(len > 1e-300);
-  LaneMask runaway = splat_int(0);
-  const Lanes inv_len = 1.0 / len;
-  const Lanes3 nrm = inv_len * v;
-  const Lanes3 dv1 = cross(a11, a2) + cross(a1, a12);
-  const Lanes3 dv2 = cross(a12, a2) + cross(a1, a22);
-  const Lanes3 dn1 = inv_len * (dv1 - dot(nrm, dv1) * nrm);
-  const Lanes3 dn2 = inv_len * (dv2 - dot(nrm, dv2) * nrm);
+  j.degenerate = ~(len > 1e-300);
+  j.inv_len = 1.0 / len;
+  j.nrm = j.inv_len * v;
+  j.dv1 = cross(j.a11, j.a2) + cross(j.a1, j.a12);
+  j.dv2 = cross(j.a12, j.a2) + cross(j.a1, j.a22);
+  j.dn1 = j.inv_len * (j.dv1 - dot(j.nrm, j.dv1) * j.nrm);
+  j.dn2 = j.inv_len * (j.dv2 - dot(j.nrm, j.dv2) * j.nrm);
+  return j;
+}
 
-  const Lanes given = gather([&](int i) { return r33[i]; });
+// Rest metric of layer lref per lane: g11, g12, g22 and 1 / sqrt of its determinant.
+SF_INLINE void lane_reference(const LaneGroup& g, size_t lref, Lanes ref[4]) {
+  using namespace shellfrac::shell;
+  if (g.b.ref_lanes) {  // lane order: plain loads
+    for (int k = 0; k < 4; ++k) __builtin_memcpy(&ref[k], g.b.ref_lanes + (lref * 4 + k) * kType4Lanes + g.o, sizeof(Lanes));
+    return;
+  }
+  const ReferenceLayer* rl[kLanes];
+  for (int i = 0; i < kLanes; ++i) rl[i] = &g.d.ref[g.q[i] * g.L + lref];
+  ref[0] = gather([&](int i) { return rl[i]->g11; });
+  ref[1] = gather([&](int i) { return rl[i]->g12; });
+  ref[2] = gather([&](int i) { return rl[i]->g22; });
+  ref[3] = 1.0 / gather([&](int i) { return rl[i]->sqrt_det; });
+}
+
+// Elastic check of von_mises_return on lanes: q^2 = (t1 + t2)^2 - 3 t1 t2 from the invariants of the
+// mixed tensor, with the condensed stress. Lanes within 1e-8 of the surface or past it run the scalar
+// return mapping, which decides with its own arithmetic exactly as the reference does; their rest metric
+// (ref) is reloaded and the stress recomputed.
+SF_INLINE void lane_plastic_return(const LaneGroup& g, size_t l, size_t lref, const Lanes3& g1, const Lanes3& g2,
+                                   const Lanes& given, LaneMask failed, Lanes ref[4], LaneStress& st) {
+  using namespace shellfrac::shell;
+  const Type4Data& d = g.d;
+  const LaneStress sc = d.model == TransverseModel::Condensed
+                            ? st
+                            : lane_in_plane_stress(g1, g2, ref, d.mu, d.lambda, TransverseModel::Condensed, given);
+  const Lanes c11 = dot(g1, g1), c12 = dot(g1, g2), c22 = dot(g2, g2);
+  const Lanes trace = sc.t11 * c11 + 2.0 * sc.t12 * c12 + sc.t22 * c22;
+  const Lanes det = (sc.t11 * sc.t22 - sc.t12 * sc.t12) * (c11 * c22 - c12 * c12);
+  const Lanes alpha = gather([&](int i) { return d.plastic_strain[g.q[i] * g.L + l]; });
+  const Lanes limit = d.plasticity.yield_stress + d.plasticity.hardening * alpha;
+  const LaneMask near = sc.ok & ~failed & (trace * trace - 3.0 * det > (1.0 - 1e-8) * (limit * limit));
+  if (!any(near)) return;
+  bool yielded = false;
+  for (int i = 0; i < kLanes; ++i) {
+    if (!near[i] || !((g.active >> i) & 1u)) continue;
+    double p1[3], p2[3];
+    lane_of(g1, i, p1);
+    lane_of(g2, i, p2);
+    if (detail::type4_return_map_lane(d, p1, p2, g.q[i] * g.L + l)) {
+      yielded = true;
+      const ReferenceLayer& r = d.ref[g.q[i] * g.L + lref];
+      ref[0].set(i, r.g11);
+      ref[1].set(i, r.g12);
+      ref[2].set(i, r.g22);
+      ref[3].set(i, 1.0 / r.sqrt_det);
+    }
+  }
+  if (yielded) st = lane_in_plane_stress(g1, g2, ref, d.mu, d.lambda, d.model, given);
+}
+
+// Writes the layers' damage and history back for the active lanes that did not fail.
+SF_INLINE void lane_store_damage(const LaneGroup& g, const Lanes* c_new, LaneMask failed, LaneMask runaway,
+                                 const int* status) {
+  using namespace shellfrac::shell;
+  // Intact material (every lane and layer +0, all lanes written, points consecutive): the lanes' damage
+  // is one run of kLanes * L values to clear, and the history (never below +0) keeps its value.
+  LaneMask nonzero = failed | runaway;
+  for (size_t l = 0; l < g.L; ++l) nonzero = nonzero | as_mask(c_new[l]);
+  bool consecutive = (g.active & ((1u << kLanes) - 1)) == (1u << kLanes) - 1;
+  for (int i = 1; i < kLanes; ++i) consecutive = consecutive && g.q[i] == g.q[0] + static_cast<size_t>(i);
+  if (consecutive && !any(nonzero)) {
+    const Lanes zero = splat(0.0);  // +0, as the scalar stores wrote: one register per layer's worth
+    for (size_t l = 0; l < g.L; ++l) __builtin_memcpy(g.d.damage + g.q[0] * g.L + l * kLanes, &zero, sizeof(Lanes));
+    return;
+  }
+  for (int i = 0; i < kLanes; ++i) {
+    if (!((g.active >> i) & 1u) || status[i] != kType4Ok) continue;
+    for (size_t l = 0; l < g.L; ++l) {
+      const size_t ql = g.q[i] * g.L + l;
+      const double c = c_new[l][i];
+      g.d.damage[ql] = c;
+      if (c > g.d.damage_history[ql]) g.d.damage_history[ql] = c;
+    }
+  }
+}
+
+// Forces on the support, -sum_k R_s,k dPsi/d(jet_k), from the layer sums K_alpha = dPsi/dg_alpha and
+// C_alpha = xi3 K_alpha through the adjoint of the KL basis (kl_basis_adjoint with K3 = 0).
+SF_INLINE void lane_support_forces(const LaneGroup& g, const LaneJet& j, const Lanes3& K1, const Lanes3& K2,
+                                   const Lanes3& C1, const Lanes3& C2, shellfrac::shell::Type4BatchResult& out) {
+  auto project = [&](const Lanes3& c) { return j.inv_len * (c - dot(j.nrm, c) * j.nrm); };
+  const Lanes3 g_dv1 = project(C1), g_dv2 = project(C2);
+  const Lanes3 pv1 = project(j.dv1), pv2 = project(j.dv2);
+  Lanes3 g_v = zero3();
+  g_v = g_v - j.inv_len * (dot(j.nrm, j.dv1) * g_dv1 + dot(C1, j.nrm) * pv1 + dot(C1, j.dn1) * j.nrm);
+  g_v = g_v - j.inv_len * (dot(j.nrm, j.dv2) * g_dv2 + dot(C2, j.nrm) * pv2 + dot(C2, j.dn2) * j.nrm);
+  Lanes3 ga1 = K1 + cross(j.a2, g_v);
+  Lanes3 ga2 = K2 + cross(g_v, j.a1);
+  const Lanes3 ga11 = cross(j.a2, g_dv1);
+  ga2 = ga2 + cross(g_dv1, j.a11);
+  ga1 = ga1 + cross(j.a12, g_dv1);
+  Lanes3 ga12 = cross(g_dv1, j.a1);
+  ga12 = ga12 + cross(j.a2, g_dv2);
+  ga2 = ga2 + cross(g_dv2, j.a12);
+  ga1 = ga1 + cross(j.a22, g_dv2);
+  const Lanes3 ga22 = cross(g_dv2, j.a1);
+  for (int s = 0; s < g.b.n; ++s) {
+    const Lanes r1 = g.basis(s, 0), r2 = g.basis(s, 1), r11 = g.basis(s, 2), r12 = g.basis(s, 3), r22 = g.basis(s, 4);
+    const Lanes fx = -(r1 * ga1.x + r2 * ga2.x + r11 * ga11.x + r12 * ga12.x + r22 * ga22.x);
+    const Lanes fy = -(r1 * ga1.y + r2 * ga2.y + r11 * ga11.y + r12 * ga12.y + r22 * ga22.y);
+    const Lanes fz = -(r1 * ga1.z + r2 * ga2.z + r11 * ga11.z + r12 * ga12.z + r22 * ga22.z);
+    __builtin_memcpy(out.force[s][0] + g.o, &fx, sizeof(Lanes));
+    __builtin_memcpy(out.force[s][1] + g.o, &fy, sizeof(Lanes));
+    __builtin_memcpy(out.force[s][2] + g.o, &fz, sizeof(Lanes));
+  }
+}
+
+// Lanes o .. o + kLanes - 1 of the batch. Fracturing is a template parameter so that the damage law's
+// per-point values do not hold registers in the kernel of patches without it.
+template <bool Fracturing>
+SF_INLINE void lane_group(const shellfrac::shell::Type4Data& d, const shellfrac::shell::Type4Batch& b,
+                          shellfrac::shell::Type4BatchResult& out, int o) {
+  using namespace shellfrac::shell;
+  const LaneGroup g{d, b, o, b.q + o, b.active >> o, static_cast<size_t>(d.layers)};
+  const size_t L = g.L;
+  const LaneJet j = lane_jet(g);
+  LaneMask failed = j.degenerate;
+  LaneMask runaway = splat_int(0);
+  const Lanes given = gather([&](int i) { return b.r33[o + i]; });
   // Per point material of the damage law (the same for every layer).
   Lanes sigma_f = splat(0.0), H = splat(0.0);
   LaneMask sigma_positive = splat_int(0);  // part of the damage pre-check that no layer changes
   if constexpr (Fracturing) {
-    sigma_f = gather([&](int i) { return d.failure_stress[q[i]]; });
-    H = gather([&](int i) { return d.brittleness[q[i]]; });
+    sigma_f = gather([&](int i) { return d.failure_stress[g.q[i]]; });
+    H = gather([&](int i) { return d.brittleness[g.q[i]]; });
     sigma_positive = sigma_f > 0.0;
   }
   Lanes3 K1 = zero3(), K2 = zero3(), C1 = zero3(), C2 = zero3();
@@ -242,54 +367,14 @@ SF_INLINE void lane_group(const shellfrac::shell::Type4Data& d, const shellfrac:
     const double xi3 = d.mid_surface ? 0.0 : d.xi3[l];
     const size_t lref = d.mid_surface ? L / 2 : l;
     Lanes ref[4], V;
-    if (b.ref_lanes) {  // lane order: plain loads
-      for (int k = 0; k < 4; ++k) __builtin_memcpy(&ref[k], b.ref_lanes + (lref * 4 + k) * kType4Lanes + o, sizeof(Lanes));
-    } else {
-      const ReferenceLayer* rl[kLanes];
-      for (int i = 0; i < kLanes; ++i) rl[i] = &d.ref[q[i] * L + lref];
-      ref[0] = gather([&](int i) { return rl[i]->g11; });
-      ref[1] = gather([&](int i) { return rl[i]->g12; });
-      ref[2] = gather([&](int i) { return rl[i]->g22; });
-      ref[3] = 1.0 / gather([&](int i) { return rl[i]->sqrt_det; });
-    }
+    lane_reference(g, lref, ref);
     if (b.volume_lanes)
       __builtin_memcpy(&V, b.volume_lanes + l * kType4Lanes + o, sizeof(Lanes));
     else
-      V = gather([&](int i) { return d.volume[q[i] * L + l]; });
-    const Lanes3 g1 = a1 + xi3 * dn1, g2 = a2 + xi3 * dn2;
+      V = gather([&](int i) { return d.volume[g.q[i] * L + l]; });
+    const Lanes3 g1 = j.a1 + xi3 * j.dn1, g2 = j.a2 + xi3 * j.dn2;
     LaneStress st = lane_in_plane_stress(g1, g2, ref, d.mu, d.lambda, d.model, given);
-    if (d.plastic) {
-      // Elastic check of von_mises_return on lanes: q^2 = (t1 + t2)^2 - 3 t1 t2 from the invariants of the
-      // mixed tensor, with the condensed stress. Lanes within 1e-8 of the surface or past it run the scalar
-      // return mapping, which decides with its own arithmetic exactly as the reference does.
-      const LaneStress sc = d.model == TransverseModel::Condensed
-                                ? st
-                                : lane_in_plane_stress(g1, g2, ref, d.mu, d.lambda, TransverseModel::Condensed, given);
-      const Lanes c11 = dot(g1, g1), c12 = dot(g1, g2), c22 = dot(g2, g2);
-      const Lanes trace = sc.t11 * c11 + 2.0 * sc.t12 * c12 + sc.t22 * c22;
-      const Lanes det = (sc.t11 * sc.t22 - sc.t12 * sc.t12) * (c11 * c22 - c12 * c12);
-      const Lanes alpha = gather([&](int i) { return d.plastic_strain[q[i] * L + l]; });
-      const Lanes limit = d.plasticity.yield_stress + d.plasticity.hardening * alpha;
-      const LaneMask near = sc.ok & ~failed & (trace * trace - 3.0 * det > (1.0 - 1e-8) * (limit * limit));
-      bool yielded = false;
-      if (any(near)) {
-        for (int i = 0; i < kLanes; ++i) {
-          if (!near[i] || !((active >> i) & 1u)) continue;
-          double p1[3], p2[3];
-          lane_of(g1, i, p1);
-          lane_of(g2, i, p2);
-          if (detail::type4_return_map_lane(d, p1, p2, q[i] * L + l)) {
-            yielded = true;
-            const ReferenceLayer& r = d.ref[q[i] * L + lref];
-            ref[0].set(i, r.g11);
-            ref[1].set(i, r.g12);
-            ref[2].set(i, r.g22);
-            ref[3].set(i, 1.0 / r.sqrt_det);
-          }
-        }
-      }
-      if (yielded) st = lane_in_plane_stress(g1, g2, ref, d.mu, d.lambda, d.model, given);
-    }
+    if (d.plastic) lane_plastic_return(g, l, lref, g1, g2, given, failed, ref, st);
     // The first failing layer decides a lane's status, as the scalar loop returns there.
     const LaneMask undecided = ~(failed | runaway);
     failed = failed | (undecided & ~st.ok);
@@ -297,7 +382,7 @@ SF_INLINE void lane_group(const shellfrac::shell::Type4Data& d, const shellfrac:
     Lanes t11 = st.t11, t12 = st.t12, t22 = st.t22;
     if constexpr (Fracturing) {
       // The stored damage matters only to the monotone rule.
-      const Lanes c_old = d.monotone ? gather([&](int i) { return d.damage[q[i] * L + l]; }) : splat(0.0);
+      const Lanes c_old = d.monotone ? gather([&](int i) { return d.damage[g.q[i] * L + l]; }) : splat(0.0);
       const Lanes normal = d.plane_strain ? d.lambda * st.lnJ : splat(0.0);
       const LaneMask always = d.monotone ? sigma_positive & (c_old <= 0.0) : sigma_positive;  // c_old = 0 otherwise
       if (all(lane_surely_intact(st, g1, g2, d.plane_strain, normal, sigma_f, always))) {
@@ -315,61 +400,12 @@ SF_INLINE void lane_group(const shellfrac::shell::Type4Data& d, const shellfrac:
     C1 = C1 + xi3 * k1;
     C2 = C2 + xi3 * k2;
   }
-
   // Per lane status; state write-back for the active lanes that did not fail.
+  int* status = out.status + o;
   for (int i = 0; i < kLanes; ++i)
     status[i] = failed[i] ? kType4Degenerate : runaway[i] ? kType4Runaway : kType4Ok;
-  if constexpr (Fracturing) {
-    // Intact material (every lane and layer +0, all lanes written, points consecutive): the lanes' damage
-    // is one run of kLanes * L values to clear, and the history (never below +0) keeps its value.
-    LaneMask nonzero = failed | runaway;
-    for (size_t l = 0; l < L; ++l) nonzero = nonzero | as_mask(c_new[l]);
-    bool consecutive = (active & ((1u << kLanes) - 1)) == (1u << kLanes) - 1;
-    for (int i = 1; i < kLanes; ++i) consecutive = consecutive && q[i] == q[0] + static_cast<size_t>(i);
-    if (consecutive && !any(nonzero)) {
-      const Lanes zero = splat(0.0);  // +0, as the scalar stores wrote: one register per layer's worth
-      for (size_t l = 0; l < L; ++l) __builtin_memcpy(d.damage + q[0] * L + l * kLanes, &zero, sizeof(Lanes));
-    } else {
-      for (int i = 0; i < kLanes; ++i) {
-        if (!((active >> i) & 1u) || status[i] != kType4Ok) continue;
-        for (size_t l = 0; l < L; ++l) {
-          const size_t ql = q[i] * L + l;
-          const double c = c_new[l][i];
-          d.damage[ql] = c;
-          if (c > d.damage_history[ql]) d.damage_history[ql] = c;
-        }
-      }
-    }
-  }
-
-  // Adjoint of the KL basis (kl_basis_adjoint with K3 = 0).
-  auto project = [&](const Lanes3& c) { return inv_len * (c - dot(nrm, c) * nrm); };
-  const Lanes3 g_dv1 = project(C1), g_dv2 = project(C2);
-  const Lanes3 pv1 = project(dv1), pv2 = project(dv2);
-  Lanes3 g_v = zero3();
-  g_v = g_v - inv_len * (dot(nrm, dv1) * g_dv1 + dot(C1, nrm) * pv1 + dot(C1, dn1) * nrm);
-  g_v = g_v - inv_len * (dot(nrm, dv2) * g_dv2 + dot(C2, nrm) * pv2 + dot(C2, dn2) * nrm);
-  Lanes3 ga1 = K1 + cross(a2, g_v);
-  Lanes3 ga2 = K2 + cross(g_v, a1);
-  const Lanes3 ga11 = cross(a2, g_dv1);
-  ga2 = ga2 + cross(g_dv1, a11);
-  ga1 = ga1 + cross(a12, g_dv1);
-  Lanes3 ga12 = cross(g_dv1, a1);
-  ga12 = ga12 + cross(a2, g_dv2);
-  ga2 = ga2 + cross(g_dv2, a12);
-  ga1 = ga1 + cross(a22, g_dv2);
-  const Lanes3 ga22 = cross(g_dv2, a1);
-
-  // Forces on the support: -sum_k R_s,k dPsi/d(jet_k).
-  for (int s = 0; s < n; ++s) {
-    const Lanes r1 = basis(s, 0), r2 = basis(s, 1), r11 = basis(s, 2), r12 = basis(s, 3), r22 = basis(s, 4);
-    const Lanes fx = -(r1 * ga1.x + r2 * ga2.x + r11 * ga11.x + r12 * ga12.x + r22 * ga22.x);
-    const Lanes fy = -(r1 * ga1.y + r2 * ga2.y + r11 * ga11.y + r12 * ga12.y + r22 * ga22.y);
-    const Lanes fz = -(r1 * ga1.z + r2 * ga2.z + r11 * ga11.z + r12 * ga12.z + r22 * ga22.z);
-    __builtin_memcpy(out.force[s][0] + o, &fx, sizeof(Lanes));
-    __builtin_memcpy(out.force[s][1] + o, &fy, sizeof(Lanes));
-    __builtin_memcpy(out.force[s][2] + o, &fz, sizeof(Lanes));
-  }
+  if constexpr (Fracturing) lane_store_damage(g, c_new, failed, runaway, status);
+  lane_support_forces(g, j, K1, K2, C1, C2, out);
 }
 
 SF_INLINE void batch_kernel(const shellfrac::shell::Type4Data& d, const shellfrac::shell::Type4Batch& b,
