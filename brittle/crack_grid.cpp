@@ -26,6 +26,19 @@ CrackGrid::CrackGrid(const std::vector<Vec3>& rest, const std::vector<double>& c
   if (!(o.spacing > 0) || !std::isfinite(o.spacing))
     throw InputError("crack extraction: grid spacing h_v must be > 0 (got " + std::to_string(o.spacing) + ")");
   if (c_his.size() != rest.size()) throw InputError("crack extraction: one damage value per particle is needed");
+  place_box(rest, o);
+  std::vector<double> weight, damaged;
+  rasterise(rest, c_his, o.damage_threshold, weight, damaged);
+  restore_islands(weight, damaged);
+  // Damaged fraction of the rasterised weight: 1 inside the damaged region, falling to 0 across its
+  // boundary, and unaffected by the domain boundary (where both weights fall off together).
+  damaged_weight_.assign(weight.size(), -1.0f);
+  for (size_t i = 0; i < weight.size(); ++i)
+    if (weight[i] > 0) damaged_weight_[i] = static_cast<float>(damaged[i] / weight[i]);
+  classify(o.neighbour_radius);
+}
+
+void CrackGrid::place_box(const std::vector<Vec3>& rest, const CrackGridOptions& o) {
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (size_t p = 0; p < rest.size(); ++p) {
     if (!rest[p].allFinite()) throw InputError("crack extraction: particle " + std::to_string(p) + " has a non-finite rest position");
@@ -46,15 +59,19 @@ CrackGrid::CrackGrid(const std::vector<Vec3>& rest, const std::vector<double>& c
     lo_[a] = static_cast<int>(std::floor(lo[a] * inv_h - 0.5)) - kMargin;
     dims_[a] = static_cast<int>(std::floor(hi[a] * inv_h - 0.5)) + 2 + kMargin - lo_[a] + 1;
   }
-  const size_t n = static_cast<size_t>(dims_.x()) * dims_.y() * dims_.z();
-  std::vector<double> weight(n, 0.0), damaged(n, 0.0);
-  flags_.assign(n, 0);
+}
 
-  // Eq. 3.1: u_i = sum_p w_ip u_p for u = 1 (domain) and u = [c_his >= threshold] (damaged region).
+void CrackGrid::rasterise(const std::vector<Vec3>& rest, const std::vector<double>& c_his, double threshold,
+                          std::vector<double>& weight, std::vector<double>& damaged) {
+  const size_t n = static_cast<size_t>(dims_.x()) * dims_.y() * dims_.z();
+  weight.assign(n, 0.0);
+  damaged.assign(n, 0.0);
+  flags_.assign(n, 0);
+  const double inv_h = 1.0 / h_;
   for (size_t p = 0; p < rest.size(); ++p) {
     const mpm::StencilWeights sw = mpm::stencil_weights(rest[p], inv_h);  // Eq. 2.10
     const int base[3] = {sw.ax[0].base, sw.ax[1].base, sw.ax[2].base};
-    const bool full = c_his[p] >= o.damage_threshold;
+    const bool full = c_his[p] >= threshold;
     for (int k = 0; k < 3; ++k)
       for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 3; ++i) {
@@ -69,12 +86,10 @@ CrackGrid::CrackGrid(const std::vector<Vec3>& rest, const std::vector<double>& c
     if (weight[i] > 0) flags_[i] |= kActive;
     if (damaged[i] > 0) flags_[i] |= kDamaged;
   }
-  restore_islands(weight, damaged);
-  // Damaged fraction of the rasterised weight: 1 inside the damaged region, falling to 0 across its
-  // boundary, and unaffected by the domain boundary (where both weights fall off together).
-  damaged_weight_.assign(n, -1.0f);
-  for (size_t i = 0; i < n; ++i)
-    if (weight[i] > 0) damaged_weight_[i] = static_cast<float>(damaged[i] / weight[i]);
+}
+
+void CrackGrid::classify(int neighbour_radius) {
+  const size_t n = flags_.size();
   // Boundaries by 6-neighbourhood.
   const int off[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
   // Whether a 6-neighbour satisfies pred; a neighbour outside the box counts as `outside`.
@@ -104,7 +119,7 @@ CrackGrid::CrackGrid(const std::vector<Vec3>& rest, const std::vector<double>& c
     else if (f[i] & kSetD) f[i] |= kSetV;
   }
   // N: within neighbour_radius of S (Chebyshev); B' nodes one step further out are also oriented.
-  const int r = std::max(1, o.neighbour_radius);
+  const int r = std::max(1, neighbour_radius);
   for (size_t i = 0; i < n; ++i) {
     if (!(f[i] & kSetS)) continue;
     const Eigen::Vector3i c = coords(i);

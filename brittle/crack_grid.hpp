@@ -83,7 +83,14 @@ class CrackGrid {
   Eigen::Vector3i lo_, dims_;
   std::vector<uint16_t> flags_;
   std::vector<float> damaged_weight_;
+  // The box of nodes around the particles (lo_, dims_); refuses one that would not fit in memory.
+  void place_box(const std::vector<Vec3>& rest, const CrackGridOptions& o);
+  // Eq. 3.1 for u = 1 and u = [c_his >= threshold]: the weights, and the active and damaged flags.
+  void rasterise(const std::vector<Vec3>& rest, const std::vector<double>& c_his, double threshold,
+                 std::vector<double>& weight, std::vector<double>& damaged);
   void restore_islands(const std::vector<double>& weight, const std::vector<double>& damaged);
+  // The sets of sec. 3.3.1 (B, B', D, S, V, N, E, I and the exits) from the active and damaged flags.
+  void classify(int neighbour_radius);
   std::vector<int> island_;  // per node, empty when there is no island
   size_t islands_ = 0;
 };
