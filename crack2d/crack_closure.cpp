@@ -387,6 +387,142 @@ class TipCloser {
   int tree_tip_ = -1;
 };
 
+// Continues free crack tips through the damaged samples (continue_tips): per tip, the shortest way
+// through damaged samples that crosses no crack to a sample next to another crack, a cut or the border,
+// then that way straightened and laid into the graph.
+class TipContinuation {
+ public:
+  using Target = TipCloser::Target;
+  TipContinuation(TipCloser& closer, CrackIndex& index, const DamageField& field, const ClosureSettings& settings)
+      : closer_(closer), index_(index), field_(field), settings_(settings), pts_(field.points()),
+        dist_(pts_.size(), std::numeric_limits<double>::infinity()), previous_(pts_.size(), -1) {}
+
+  // True if the tip was continued.
+  bool run(int tip, const Point& p) {
+    Target target{};
+    const int reached = search(tip, p, target);
+    const bool laid = reached >= 0 && lay(tip, p, reached, target);
+    for (int s : touched_) {
+      dist_[s] = std::numeric_limits<double>::infinity();
+      previous_[s] = -1;
+    }
+    touched_.clear();
+    return laid;
+  }
+
+ private:
+  // Dijkstra over the sample adjacency from the tip, bounded by the continuation reach: the first
+  // sample with an acceptable target beside it (-1: none).
+  int search(int tip, const Point& p, Target& target) {
+    using Item = std::pair<double, int>;
+    const std::vector<unsigned char>& damaged = field_.flags();
+    const double r = settings_.neighbour_radius;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+    field_.grid().for_each_within(p, r, [&](int s) {
+      if (!damaged[s] || !closer_.clear(p, pts_[s], tip, nullptr)) return;
+      const double d = (pts_[s] - p).norm();
+      if (d < dist_[s]) {
+        if (std::isinf(dist_[s])) touched_.push_back(s);
+        dist_[s] = d;
+        previous_[s] = -1;
+        queue.push({d, s});
+      }
+    });
+    while (!queue.empty()) {
+      const auto [d, s] = queue.top();
+      queue.pop();
+      if (d > dist_[s]) continue;
+      if (target_beside(tip, s, target)) return s;
+      field_.neighbours().for_each(static_cast<size_t>(s), [&](int t) {
+        if (!damaged[t] || t == s) return;
+        const double nd = d + (pts_[t] - pts_[s]).norm();
+        if (nd > settings_.continuation_reach || nd >= dist_[t]) return;
+        if (!closer_.clear(pts_[s], pts_[t], -1, nullptr)) return;
+        if (std::isinf(dist_[t])) touched_.push_back(t);
+        dist_[t] = nd;
+        previous_[t] = s;
+        queue.push({nd, t});
+      });
+    }
+    return -1;
+  }
+
+  // A target next to sample s: the nearest crack point (not the tip's own edges) or the border.
+  bool target_beside(int tip, int s, Target& target) {
+    const double r = settings_.neighbour_radius;
+    std::vector<Target> candidates;
+    const CrackIndex::Nearest near = index_.nearest(pts_[s], r);
+    if (near.segment >= 0 && !closer_.incident(static_cast<uint32_t>(near.segment), tip))
+      candidates.push_back(closer_.on_segment(static_cast<uint32_t>(near.segment), pts_[s]));
+    for (const Target& t : closer_.border_targets(pts_[s]))
+      if ((t.q - pts_[s]).norm() <= r) candidates.push_back(t);
+    for (const Target& c : candidates) {
+      if (!field_.damaged_along(pts_[s], c.q) || !closer_.clear(pts_[s], c.q, -1, &c)) continue;
+      // Only towards another crack (or a border the crack does not reach): a way back to the tip's
+      // own crack would run back through its own damage band and cut out the material beside it;
+      // where such a loop is really needed, the separation pass finds it. The exception is a loop
+      // around a patch corner that encloses no intact sample: a fully damaged corner (the pinned
+      // corner of a torn cloth) has no strength left, and left attached it hangs on as a strand.
+      const TipCloser::Enclosure loop = closer_.enclosure(tip, c);
+      const bool damaged_corner = c.kind != 0 && loop.around_corner && loop.intact == 0;
+      if (loop.intact != std::numeric_limits<size_t>::max() && !damaged_corner) continue;
+      target = c;
+      return true;
+    }
+    return false;
+  }
+
+  // The path tip -> samples -> target, through the midpoints between consecutive samples (a crack
+  // through a sample would leave it without a side), straightened: from each kept point, the farthest
+  // later point reachable by a straight segment through damaged material touching no crack. False,
+  // and nothing laid, where a straight piece would have to cut a crack.
+  bool lay(int tip, const Point& p, int reached, const Target& target) {
+    std::vector<Point> path{target.q};
+    for (int s = reached; previous_[s] >= 0; s = previous_[s]) path.push_back(0.5 * (pts_[s] + pts_[previous_[s]]));
+    path.push_back(p);
+    std::reverse(path.begin(), path.end());
+    const size_t last = path.size() - 1;
+    auto passable = [&](size_t i, size_t j) {
+      return field_.damaged_along(path[i], path[j]) &&
+             closer_.clear(path[i], path[j], i == 0 ? tip : -1, j == last ? &target : nullptr);
+    };
+    std::vector<size_t> kept{0};
+    while (kept.back() < last) {
+      const size_t at = kept.back();
+      size_t next = at + 1;
+      for (size_t j = last; j > at + 1; --j)
+        if (passable(at, j)) {
+          next = j;
+          break;
+        }
+      if (next == at + 1 && !passable(at, next)) return false;  // rather than a segment that cuts a crack
+      kept.push_back(next);
+    }
+    int from = tip;
+    for (size_t k = 1; k < kept.size(); ++k) {
+      if (kept[k] == last) {
+        closer_.land(from, target);
+        break;
+      }
+      Point q = path[kept[k]];
+      const Point d = (q - path[kept[k - 1]]).normalized();
+      if (segment_hits_sample(path[kept[k - 1]], q, pts_, field_.grid())) q += settings_.sample_clearance * Point(-d.y(), d.x());
+      const int v = closer_.add_vertex(q);
+      closer_.add_edge(from, v);
+      from = v;
+    }
+    return true;
+  }
+
+  TipCloser& closer_;
+  CrackIndex& index_;
+  const DamageField& field_;
+  const ClosureSettings& settings_;
+  const std::vector<Point>& pts_;
+  std::vector<double> dist_;
+  std::vector<int> previous_, touched_;
+};
+
 }  // namespace
 
 void join_tips(CrackGraph& graph, CrackIndex& index, const DamageField& field, const Box& domain,
@@ -427,121 +563,13 @@ void join_tips(CrackGraph& graph, CrackIndex& index, const DamageField& field, c
 
 void continue_tips(CrackGraph& graph, CrackIndex& index, const DamageField& field, const Box& domain,
                    const ClosureSettings& settings, ClosureStats& stats) {
-  using Target = TipCloser::Target;
-  const std::vector<Point>& pts = field.points();
-  const std::vector<unsigned char>& damaged = field.flags();
-  const SampleNeighbours& adjacency = field.neighbours();
-  const double r = settings.neighbour_radius;
   TipCloser closer(graph, index, field, domain, settings);
-  std::vector<double> dist(pts.size(), std::numeric_limits<double>::infinity());
-  std::vector<int> previous(pts.size(), -1), touched;
-  using Item = std::pair<double, int>;
+  TipContinuation continuation(closer, index, field, settings);
   for (const int tip : closer.tips()) {
     if (!closer.still_free(tip)) continue;
     const Point p = graph.vertices()[tip];
     if (!field.damaged_at(p)) continue;
-    // Shortest way through the damaged samples (crossing no crack) from the tip to a sample next to
-    // another crack, a cut or the border (Dijkstra over the sample adjacency, bounded by the reach).
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-    field.grid().for_each_within(p, r, [&](int s) {
-      if (!damaged[s] || !closer.clear(p, pts[s], tip, nullptr)) return;
-      const double d = (pts[s] - p).norm();
-      if (d < dist[s]) {
-        if (std::isinf(dist[s])) touched.push_back(s);
-        dist[s] = d;
-        previous[s] = -1;
-        queue.push({d, s});
-      }
-    });
-    int reached = -1;
-    Target target{};
-    while (!queue.empty() && reached < 0) {
-      const auto [d, s] = queue.top();
-      queue.pop();
-      if (d > dist[s]) continue;
-      // A target next to this sample: the nearest crack point (not the tip's own edges) or the border.
-      std::vector<Target> candidates;
-      const CrackIndex::Nearest near = index.nearest(pts[s], r);
-      if (near.segment >= 0 && !closer.incident(static_cast<uint32_t>(near.segment), tip))
-        candidates.push_back(closer.on_segment(static_cast<uint32_t>(near.segment), pts[s]));
-      for (const Target& t : closer.border_targets(pts[s]))
-        if ((t.q - pts[s]).norm() <= r) candidates.push_back(t);
-      for (const Target& c : candidates) {
-        if (!field.damaged_along(pts[s], c.q) || !closer.clear(pts[s], c.q, -1, &c)) continue;
-        // Only towards another crack (or a border the crack does not reach): a way back to the tip's
-        // own crack would run back through its own damage band and cut out the material beside it;
-        // where such a loop is really needed, the separation pass finds it. The exception is a loop
-        // around a patch corner that encloses no intact sample: a fully damaged corner (the pinned
-        // corner of a torn cloth) has no strength left, and left attached it hangs on as a strand.
-        const TipCloser::Enclosure loop = closer.enclosure(tip, c);
-        const bool damaged_corner = c.kind != 0 && loop.around_corner && loop.intact == 0;
-        if (loop.intact != std::numeric_limits<size_t>::max() && !damaged_corner) continue;
-        reached = s;
-        target = c;
-        break;
-      }
-      if (reached >= 0) break;
-      adjacency.for_each(static_cast<size_t>(s), [&](int t) {
-        if (!damaged[t] || t == s) return;
-        const double nd = d + (pts[t] - pts[s]).norm();
-        if (nd > settings.continuation_reach || nd >= dist[t]) return;
-        if (!closer.clear(pts[s], pts[t], -1, nullptr)) return;
-        if (std::isinf(dist[t])) touched.push_back(t);
-        dist[t] = nd;
-        previous[t] = s;
-        queue.push({nd, t});
-      });
-    }
-    if (reached >= 0) {
-      // The path tip -> samples -> target, through the midpoints between consecutive samples (a crack
-      // through a sample would leave it without a side), straightened: from each kept point, the
-      // farthest later point reachable by a straight segment through damaged material touching no crack.
-      std::vector<Point> path{target.q};
-      for (int s = reached; previous[s] >= 0; s = previous[s]) path.push_back(0.5 * (pts[s] + pts[previous[s]]));
-      path.push_back(p);
-      std::reverse(path.begin(), path.end());
-      const size_t last = path.size() - 1;
-      auto passable = [&](size_t i, size_t j) {
-        return field.damaged_along(path[i], path[j]) &&
-               closer.clear(path[i], path[j], i == 0 ? tip : -1, j == last ? &target : nullptr);
-      };
-      std::vector<size_t> kept{0};
-      bool ok = true;
-      while (ok && kept.back() < last) {
-        const size_t at = kept.back();
-        size_t next = at + 1;
-        for (size_t j = last; j > at + 1; --j)
-          if (passable(at, j)) {
-            next = j;
-            break;
-          }
-        ok = next > at + 1 || passable(at, next);  // give up rather than add a segment that cuts a crack
-        kept.push_back(next);
-      }
-      if (!ok) {
-        reached = -1;
-      } else {
-        int from = tip;
-        for (size_t k = 1; k < kept.size(); ++k) {
-          if (kept[k] == last) {
-            closer.land(from, target);
-            break;
-          }
-          Point q = path[kept[k]];
-          const Point d = (q - path[kept[k - 1]]).normalized();
-          if (segment_hits_sample(path[kept[k - 1]], q, pts, field.grid())) q += settings.sample_clearance * Point(-d.y(), d.x());
-          const int v = closer.add_vertex(q);
-          closer.add_edge(from, v);
-          from = v;
-        }
-      }
-      if (reached >= 0) ++stats.continuations;
-    }
-    for (int s : touched) {
-      dist[s] = std::numeric_limits<double>::infinity();
-      previous[s] = -1;
-    }
-    touched.clear();
+    if (continuation.run(tip, p)) ++stats.continuations;
   }
 }
 
