@@ -21,7 +21,7 @@ fi
 [[ -x "$binary" ]] || { echo "check-golden: no executable at $binary (build first)" >&2; exit 2; }
 command -v python3 >/dev/null || { echo "check-golden: needs python3 (to strip timings from summary.json)" >&2; exit 2; }
 
-scenes=${GOLDEN_SCENES:-"default tear-mode-one spiral-cut cloth-two-balls garment-eight-patches drape-two-patch-c1 plate-pressure brittle/slab-sphere brittle/notched-beam brittle/statue-strike"}
+scenes=${GOLDEN_SCENES:-"default tear-mode-one spiral-cut cloth-two-balls garment-eight-patches drape-two-patch-c1 plate-pressure brittle/slab-sphere brittle/notched-beam brittle/statue-strike brittle/shapes-drop brittle/statue-drop"}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
