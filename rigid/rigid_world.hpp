@@ -95,7 +95,7 @@ class RigidWorld {
   const std::vector<ContactPoint>& contacts() const { return contacts_; }
   // Contacts between the two bodies are skipped (ignore) or processed again (and both are woken).
   void ignore_pair(int a, int b, bool ignore);
-  // The bodies whose contacts with `id` are skipped, as Bullet holds them.
+  // How many bodies Bullet skips contacts with for `id` (ignored pairs as Bullet holds them).
   size_t ignored_count(int id) const;
   // Whether the bodies' bounding boxes (shape padding included) overlap.
   bool bounds_overlap(int a, int b) const;
