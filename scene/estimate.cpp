@@ -351,7 +351,7 @@ std::string choose_grid_spacing(const Scene& scene, const SceneExtent& x, Resour
 struct GridDemand {
   double particles = 0;
   double blocks = 0;  // estimated from areas and volumes
-  GridBlocks counted; // blocks of the shells small enough to count exactly
+  GridBlocks counted;  // blocks of the shells small enough to count exactly
   explicit GridDemand(double dx) : counted(dx) {}
 };
 
