@@ -236,8 +236,11 @@ void RigidWorld::remove_body(int id) {
   Entry& e = impl_->at(id);
   // Bullet keeps ignored partners as raw pointers. A pointer left behind would make the survivor ignore
   // whatever body is allocated next at the freed address (a fragment spawned later, depending on the heap).
-  for (const int other : std::vector<int>(e.ignored))
-    if (has_body(other)) impl_->set_ignored(id, other, false);
+  for (const int other : e.ignored) {
+    Entry& o = impl_->at(other);  // ignored partners are removed before they leave (below)
+    o.object->setIgnoreCollisionCheck(e.object.get(), false);
+    o.ignored.erase(std::remove(o.ignored.begin(), o.ignored.end(), id), o.ignored.end());
+  }
   impl_->world.removeRigidBody(static_cast<btRigidBody*>(e.object.get()));
   impl_->entries[static_cast<size_t>(id)].reset();
 }

@@ -355,8 +355,8 @@ struct GridDemand {
   explicit GridDemand(double dx) : counted(dx) {}
 };
 
-void add_shell_items(const Scene& scene, const SceneExtent& x, double grid_dx, ResourceEstimate& e, GridDemand& grid) {
-  const double block = 4.0 * grid_dx;
+void add_shell_items(const Scene& scene, const SceneExtent& x, ResourceEstimate& e, GridDemand& grid) {
+  const double block = 4.0 * e.grid_dx;
   for (size_t i = 0; i < x.shells.size(); ++i) {
     const ShellSize& s = x.shells[i];
     const Shell& in = scene.shells[i];
@@ -378,8 +378,8 @@ void add_shell_items(const Scene& scene, const SceneExtent& x, double grid_dx, R
   }
 }
 
-void add_solid_items(const Scene& scene, const SceneExtent& x, double grid_dx, ResourceEstimate& e, GridDemand& grid) {
-  const double block = 4.0 * grid_dx;
+void add_solid_items(const Scene& scene, const SceneExtent& x, ResourceEstimate& e, GridDemand& grid) {
+  const double block = 4.0 * e.grid_dx;
   for (size_t i = 0; i < x.solids.size(); ++i) {
     const SolidSize& s = x.solids[i];
     const Solid& in = scene.solids[i];
@@ -451,8 +451,8 @@ ResourceEstimate estimate_resources(const Scene& input) {
 
   // Memory, item by item.
   GridDemand grid(e.grid_dx);
-  add_shell_items(scene, extent, e.grid_dx, e, grid);
-  add_solid_items(scene, extent, e.grid_dx, e, grid);
+  add_shell_items(scene, extent, e, grid);
+  add_solid_items(scene, extent, e, grid);
   add_collider_items(scene, e);
   const double blocks = grid.blocks + grid.counted.active();
   e.memory.push_back({"grid nodes", 64 * blocks, blocks * kGridBlockBytes, scene.grid.dx ? "/grid/dx" : dx_path});
