@@ -10,6 +10,10 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <random>
+
+#include "brittle/phase_field.hpp"
+#include "brittle/solid_grid.hpp"
 
 #include "brittle/solver.hpp"
 
@@ -76,6 +80,39 @@ void BM_PhaseFieldInterval(benchmark::State& state) {
   damage_step(state, 80, 1, static_cast<size_t>(state.range(0)));
 }
 BENCHMARK(BM_PhaseFieldInterval)->Arg(1)->Arg(5)->Arg(10)->Iterations(20)->Unit(benchmark::kMillisecond)->UseRealTime();
+// The phase-field operator alone (one y = (M + H) x, the CG's inner pass) and one whole solve, at n^3
+// particles two per cell and axis: range(0) = n, range(1) = 1 to shuffle the particle order (a solid
+// sampled in no spatial order) or 0 (lattice order). Counter: ns per particle per pass.
+void BM_PhaseFieldOperator(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const double s = 0.0025, dx = 2 * s;
+  std::vector<GVec3> x;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) x.emplace_back(s * (i + 0.5), s * (j + 0.5), s * (k + 0.5));
+  if (state.range(1) == 1) std::shuffle(x.begin(), x.end(), std::mt19937(7));
+  std::vector<double> volume(x.size(), s * s * s), history(x.size()), c(x.size(), 1.0);
+  for (size_t p = 0; p < x.size(); ++p) history[p] = 50.0 * (1.0 + std::sin(37.0 * x[p].x()));
+  const PhaseFieldParticles view{x.size(), x.data(), volume.data(), history.data(), c.data()};
+  SolidGrid grid(dx);
+  grid.rebuild(x.data(), x.size(), {}, false, size_t{8} << 30);
+  PhaseFieldOptions o;
+  o.mobility = 2000;
+  PhaseFieldSystem system(o, 8.0, dx);
+  system.solve(grid, view, 1e-5);
+  std::vector<double> in(grid.num_nodes()), out;
+  for (size_t i = 0; i < in.size(); ++i) in[i] = 1.0 + 0.01 * std::cos(0.1 * static_cast<double>(i));
+  for (auto _ : state) {
+    system.apply(grid, view, in, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.counters["ns_per_particle"] =
+      benchmark::Counter(static_cast<double>(x.size()) * 1e-9, benchmark::Counter::kIsIterationInvariantRate |
+                                                                     benchmark::Counter::kInvert);
+  state.counters["particles"] = static_cast<double>(x.size());
+}
+BENCHMARK(BM_PhaseFieldOperator)->ArgsProduct({{80}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // 8K, 64K, 216K, 512K and 1M particles.
 BENCHMARK(BM_DamageStep)
     ->ArgsProduct({{20, 40, 60, 80, 100}, {0, 1, 2}})

@@ -11,6 +11,7 @@
 #include "brittle/errors.hpp"
 #include "brittle/solid_grid_impl.hpp"
 #include "brittle/solid_stencil.hpp"
+#include "brittle/solid_transfer.hpp"
 
 namespace shellfrac::brittle {
 
@@ -57,7 +58,8 @@ inline void axis_gradients(const Stencil& st, PhaseFieldGradient mode, double in
 }
 
 // fn(local i, j, k, node index, weight w_ip, gradient grad Theta_i(x_p)) over the 27 nodes of a
-// particle's stencil (assembly, penalty and the gather back; the CG operator uses the factored form).
+// particle's stencil, for the penalty points and CHOLMOD's assembly (the operator, the assembly of the
+// lumped terms and the update of c run the vector kernels of brittle/phase_field_kernels_impl.hpp).
 template <class Fn>
 inline void for_stencil(const SolidGrid& grid, const Stencil& st, PhaseFieldGradient mode, double inv_dx, Fn&& fn) {
   const long base = grid.node_index(st.base[0], st.base[1], st.base[2]);
@@ -73,41 +75,27 @@ inline void for_stencil(const SolidGrid& grid, const Stencil& st, PhaseFieldGrad
       }
 }
 
-// grad c_h(x_p) = sum_ijk grad Theta_ijk x_ijk, summed one axis at a time (90 multiply-adds instead of
-// 27 gradients of 3 products each).
-inline GVec3 gather_gradient(const double* x, long base, long sy, long sz, const double w[3][3], const double g[3][3]) {
-  double P[3], Q[3], R[3];  // per k: sum_j w_j A_jk, sum_j g_j A_jk, sum_j w_j B_jk
-  for (int k = 0; k < 3; ++k) {
-    P[k] = Q[k] = R[k] = 0;
-    for (int j = 0; j < 3; ++j) {
-      const double* row = x + base + j * sy + k * sz;
-      const double A = w[0][0] * row[0] + w[0][1] * row[1] + w[0][2] * row[2];
-      const double B = g[0][0] * row[0] + g[0][1] * row[1] + g[0][2] * row[2];
-      P[k] += w[1][j] * A;
-      Q[k] += g[1][j] * A;
-      R[k] += w[1][j] * B;
-    }
-  }
-  GVec3 out = GVec3::Zero();
-  for (int k = 0; k < 3; ++k) {
-    out.x() += w[2][k] * R[k];
-    out.y() += w[2][k] * Q[k];
-    out.z() += g[2][k] * P[k];
-  }
-  return out;
+// The grid box as the per-particle kernels see it (brittle/solid_transfer.hpp); they need no node arrays.
+detail::ConstTransferGrid kernel_box(const SolidGrid& grid) {
+  detail::ConstTransferGrid g;
+  for (int a = 0; a < 3; ++a) g.lo[a] = grid.lower()[a];
+  g.stride_y = grid.stride(1);
+  g.stride_z = grid.stride(2);
+  g.dx = grid.dx();
+  g.inv_dx = 1.0 / grid.dx();
+  return g;
 }
 
-// y_ijk += grad Theta_ijk . v, the transpose of gather_gradient.
-inline void scatter_gradient(double* y, long base, long sy, long sz, const double w[3][3], const double g[3][3], const GVec3& v) {
-  for (int k = 0; k < 3; ++k) {
-    const double vx = v.x() * w[2][k], vy = v.y() * w[2][k], vz = v.z() * g[2][k];
-    for (int j = 0; j < 3; ++j) {
-      const double on_g = vx * w[1][j];                   // times g_i
-      const double on_w = vy * g[1][j] + vz * w[1][j];    // times w_i
-      double* row = y + base + j * sy + k * sz;
-      for (int i = 0; i < 3; ++i) row[i] += on_g * g[0][i] + on_w * w[0][i];
-    }
-  }
+// The particles' positions as the kernels read them (3 doubles each).
+const double* positions(const PhaseFieldParticles& p) { return p.count > 0 ? p.x->data() : nullptr; }
+
+// Runs a kernel over every slab's particles, slab colour by colour (the grid's scatter order).
+template <class Kernel, class Args>
+void over_slabs(const SolidGrid& grid, Kernel kernel, const Args& args) {
+  const detail::ConstTransferGrid g = kernel_box(grid);
+  grid.for_slabs_coloured([&](size_t slab) {
+    kernel(g, args, grid.slab_begin(slab), 0, static_cast<size_t>(grid.slab_end(slab) - grid.slab_begin(slab)));
+  });
 }
 
 // Dot product over the free nodes, summed in fixed blocks: the same bits for any thread count.
@@ -149,23 +137,23 @@ void PhaseFieldSystem::assemble(const SolidGrid& grid, const PhaseFieldParticles
   free_.assign(n, 0);
   const double Mc = options_.mobility, r = options_.residual;
   const double inv_dt = dt > 0 ? 1.0 / dt : 0.0;
-  const double laplace = 4.0 * l0_ * l0_ * Mc;  // 4 l0^2 M_c (Eq. 6)
-  const PhaseFieldGradient gradient = options_.gradient;
-  const double inv_dx = 1.0 / dx_;
-  grid.for_particles_coloured([&](size_t q) {
-    const Stencil st = make_stencil(p.x[q], inv_dx, dx_);
-    const double V = p.volume[q], cq = p.c[q];
-    const double mass = V * (4.0 * l0_ * Mc * (1.0 - r) * p.history[q] / G_ + Mc + inv_dt);  // M_ii integrand
-    const double source = V * (Mc + cq * inv_dt);                                         // r_i integrand
-    const double stiffness = V * laplace;
-    for_stencil(grid, st, gradient, inv_dx, [&](int, int, int, size_t i, double w, const GVec3& grad) {
-      weight_[i] += w;
-      c_old_[i] += w * cq;
-      diag_[i] += mass * w;
-      rhs_[i] += source * w;
-      precond_[i] += stiffness * grad.squaredNorm();  // H_ii
-    });
-  });
+  detail::PhaseFieldAssemblyArgs args;
+  args.weight = weight_.data();
+  args.c_old = c_old_.data();
+  args.diag = diag_.data();
+  args.rhs = rhs_.data();
+  args.precond = precond_.data();  // H_ii here
+  args.position = positions(p);
+  args.volume = p.volume;
+  args.history = p.history;
+  args.c = p.c;
+  args.history_factor = 4.0 * l0_ * Mc * (1.0 - r) / G_;
+  args.mass_constant = Mc + inv_dt;
+  args.source_constant = Mc;
+  args.inv_dt = inv_dt;
+  args.stiffness = 4.0 * l0_ * l0_ * Mc;  // 4 l0^2 M_c (Eq. 6)
+  args.mls_gradient = options_.gradient == PhaseFieldGradient::Mls;
+  over_slabs(grid, grid.kernels().phase_field_assembly, args);
   for_nodes(n, [&](size_t i) {
     if (weight_[i] > 0) {
       c_old_[i] /= weight_[i];
@@ -219,17 +207,16 @@ void PhaseFieldSystem::apply(const SolidGrid& grid, const PhaseFieldParticles& p
   const double laplace = 4.0 * l0_ * l0_ * options_.mobility;
   const PhaseFieldGradient gradient = options_.gradient;
   const double inv_dx = 1.0 / dx_;
-  const long sy = grid.stride(1), sz = grid.stride(2);
-  grid.for_particles_coloured([&](size_t q) {
-    const Stencil st = make_stencil(p.x[q], inv_dx, dx_);
-    const long base = grid.node_index(st.base[0], st.base[1], st.base[2]);
-    double g[3][3];
-    axis_gradients(st, gradient, inv_dx, g);
-    // grad c_h(x_p), then its share back to each node. x is 0 off the free nodes, and y is zeroed
-    // there below, so neither pass needs the mask.
-    const GVec3 grad = gather_gradient(x.data(), base, sy, sz, st.w, g) * (p.volume[q] * laplace);
-    scatter_gradient(y.data(), base, sy, sz, st.w, g, grad);
-  });
+  // grad c_h(x_p), then its share back to each node (the kernel). x is 0 off the free nodes, and y is
+  // zeroed there below, so neither pass needs the mask.
+  detail::PhaseFieldOperatorArgs args;
+  args.x = x.data();
+  args.y = y.data();
+  args.position = positions(p);
+  args.volume = p.volume;
+  args.scale = laplace;
+  args.mls_gradient = gradient == PhaseFieldGradient::Mls;
+  over_slabs(grid, grid.kernels().phase_field_operator, args);
   for (const GVec3& xb : penalty_points_) {  // few points: serial, in order
     const Stencil st = make_stencil(xb, inv_dx, dx_);
     double value = 0;
@@ -390,17 +377,15 @@ PhaseFieldStats PhaseFieldSystem::solve(const SolidGrid& grid, const PhaseFieldP
   if (options_.solver == PhaseFieldSolver::Cholmod) solve_cholmod(grid, p, stats);
   else solve_cg(grid, p, stats);
   // Back to the particles without healing (sec. 4.2.1).
-  const double inv_dx = 1.0 / dx_;
-  const PhaseFieldGradient gradient = options_.gradient;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, p.count, 4096), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t q = r.begin(); q != r.end(); ++q) {
-      const Stencil st = make_stencil(p.x[q], inv_dx, dx_);
-      double change = 0;
-      for_stencil(grid, st, gradient, inv_dx, [&](int, int, int, size_t i, double w, const GVec3&) { change += w * (c_[i] - c_old_[i]); });
-      const double cq = p.c[q];
-      p.c[q] = std::max(0.0, std::min(cq, cq + change));
-    }
-  });
+  detail::PhaseFieldGatherArgs back;
+  back.c_new = c_.data();
+  back.c_old = c_old_.data();
+  back.position = positions(p);
+  back.c = p.c;
+  const detail::ConstTransferGrid g = kernel_box(grid);
+  const detail::PhaseFieldGatherKernel gather = grid.kernels().phase_field_gather;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, p.count, 4096),
+                    [&](const tbb::blocked_range<size_t>& r) { gather(g, back, r.begin(), r.end()); });
   return stats;
 }
 

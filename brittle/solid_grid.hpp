@@ -115,6 +115,12 @@ class SolidGrid {
   // slab_order_[slab_offsets_[slab], slab_offsets_[slab + 1]).
   template <class Fn>
   void for_slabs_coloured(Fn&& fn) const;
+  // Slab s's particles (index order) as [slab_begin(s), slab_end(s)).
+  const uint32_t* slab_begin(size_t slab) const { return slab_order_.data() + slab_offsets_[slab]; }
+  const uint32_t* slab_end(size_t slab) const { return slab_order_.data() + slab_offsets_[slab + 1]; }
+  // The per-particle kernels of the chosen instruction set (brittle/solid_transfer.hpp), for loops over
+  // this grid that live elsewhere (the phase field's operator).
+  const detail::TransferKernels& kernels() const { return *kernels_; }
 
  private:
   // The crack normal of a node padded to four doubles (one vector in the kernels).

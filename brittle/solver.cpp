@@ -335,6 +335,7 @@ void BrittleSolver::stage_damage() {
   const bool nacc = solid_.material.model == DamageModel::Nacc;
   const double now = time_;
   const double stretch_limit = solid_.material.broken_stretch_limit;
+  const bool solve_next = phase_field_ && steps_ % options_.phase_field.interval == 0;  // see stage_p2g
   // The first bad particle (inverted or non-finite F) in index order, for the error message.
   const size_t bad = tbb::parallel_reduce(
       tbb::blocked_range<size_t>(0, n, 2048), std::numeric_limits<size_t>::max(),
@@ -351,7 +352,9 @@ void BrittleSolver::stage_damage() {
             // Psi^H only grows: the crack cannot close (seed 001, sec. 3.4.2).
             pf_history_[p] = std::max(pf_history_[p], split_energy(F, mu, bulk_modulus(mu, lambda)).tensile);
             solid_.damage[p].history = pf_history_[p];
-            phase_field_stress(p);
+            // When the next step solves, its phase-field stage sets the stress from the new c and this F
+            // (nothing reads the stress before that), so it is computed here only for steps without a solve.
+            if (!solve_next) phase_field_stress(p);
           } else if (nacc && damage) {
             nacc_stress(p);
           } else if (damage) {
