@@ -137,11 +137,9 @@ void PhaseFieldSystem::assemble(const SolidGrid& grid, const PhaseFieldParticles
   free_.assign(n, 0);
   const double Mc = options_.mobility, r = options_.residual;
   const double inv_dt = dt > 0 ? 1.0 / dt : 0.0;
+  lumped_.assign(n, LumpedNode{0, 0, 0, 0});
   detail::PhaseFieldAssemblyArgs args;
-  args.weight = weight_.data();
-  args.c_old = c_old_.data();
-  args.diag = diag_.data();
-  args.rhs = rhs_.data();
+  args.lumped = reinterpret_cast<double*>(lumped_.data());
   args.precond = precond_.data();  // H_ii here
   args.position = positions(p);
   args.volume = p.volume;
@@ -155,8 +153,12 @@ void PhaseFieldSystem::assemble(const SolidGrid& grid, const PhaseFieldParticles
   args.mls_gradient = options_.gradient == PhaseFieldGradient::Mls;
   over_slabs(grid, grid.kernels().phase_field_assembly, args);
   for_nodes(n, [&](size_t i) {
+    const LumpedNode& l = lumped_[i];
+    weight_[i] = l.weight;
+    diag_[i] = l.mass;
+    rhs_[i] = l.source;
     if (weight_[i] > 0) {
-      c_old_[i] /= weight_[i];
+      c_old_[i] = l.weighted_c / weight_[i];
       free_[i] = 1;
     } else {
       c_old_[i] = 1.0;

@@ -111,6 +111,11 @@ class PhaseFieldSystem {
   // Dense node vectors over the grid box.
   std::vector<double> weight_, c_old_, c_, diag_, rhs_, precond_;
   std::vector<uint8_t> free_;
+  // The assembly's scratch: the four w-weighted sums of a node side by side (one vector per node).
+  struct alignas(32) LumpedNode {
+    double weight, weighted_c, mass, source;
+  };
+  std::vector<LumpedNode> lumped_;
   std::vector<GVec3> penalty_points_;
   double penalty_ = 0;  // weight of the broken-point penalty
   // CHOLMOD: unknown number per node (-1 if not free), node per unknown, and per unknown column the

@@ -117,18 +117,19 @@ void phase_field_assembly_kernel(const ConstTransferGrid& g, const PhaseFieldAss
     const double mass = V * (a.history_factor * a.history[q] + a.mass_constant);  // M_ii integrand
     const double source = V * (a.source_constant + cq * a.inv_dt);                // r_i integrand
     const double stiffness = V * a.stiffness;                                      // H_ii integrand
+    const V4 share = make4(1.0, cq, mass, source);
     const V4 wx = make4(w[0][0], w[0][1], w[0][2], 0.0), dx = make4(d[0][0], d[0][1], d[0][2], 0.0);
     for (int k = 0; k < 3; ++k)
       for (int j = 0; j < 3; ++j) {
         const long at = base + row_offset(g, j, k);
-        const V4 weight = (w[1][j] * w[2][k]) * wx;
+        const double wjk = w[1][j] * w[2][k];
+        for (int i = 0; i < 3; ++i) {
+          double* node = a.lumped + 4 * (at + i);
+          store4(node, load4(node) + (wjk * w[0][i]) * share);
+        }
         // |grad Theta|^2 per node: (g_i w_j w_k)^2 + (w_i g_j w_k)^2 + (w_i w_j g_k)^2.
-        const V4 gx = (w[1][j] * w[2][k]) * dx, gyz = (d[1][j] * w[2][k]) * wx, gz = (w[1][j] * d[2][k]) * wx;
-        store3(a.weight + at, load3(a.weight + at) + weight);
-        store3(a.c_old + at, load3(a.c_old + at) + cq * weight);
-        store3(a.diag + at, load3(a.diag + at) + mass * weight);
-        store3(a.rhs + at, load3(a.rhs + at) + source * weight);
-        store3(a.precond + at, load3(a.precond + at) + stiffness * (gx * gx + gyz * gyz + gz * gz));
+        const V4 gx = wjk * dx, gy = (d[1][j] * w[2][k]) * wx, gz = (w[1][j] * d[2][k]) * wx;
+        store3(a.precond + at, load3(a.precond + at) + stiffness * (gx * gx + gy * gy + gz * gz));
       }
   }
 }

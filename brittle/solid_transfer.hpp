@@ -41,11 +41,13 @@ struct PhaseFieldOperatorArgs {
 using PhaseFieldOperatorKernel = void (*)(const ConstTransferGrid& g, const PhaseFieldOperatorArgs& a,
                                           const uint32_t* order, size_t begin, size_t end);
 
-// Its assembly: node vectors accumulated, the particles' arrays read, and the integrands' factors
+// Its assembly: node arrays accumulated, the particles' arrays read, and the integrands' factors
 // M_ii = V (history_factor Psi^H + mass_constant) w, r_i = V (source_constant + c inv_dt) w,
 // H_ii = V stiffness |grad Theta_i|^2.
+// `lumped` holds four doubles per node, 32-byte aligned: sum w, sum w c_p, M_ii and r_i (all weighted by
+// w, so one vector multiply-add per node adds a particle's share); `precond` gets H_ii.
 struct PhaseFieldAssemblyArgs {
-  double *weight = nullptr, *c_old = nullptr, *diag = nullptr, *rhs = nullptr, *precond = nullptr;
+  double *lumped = nullptr, *precond = nullptr;
   const double *position = nullptr, *volume = nullptr, *history = nullptr, *c = nullptr;
   double history_factor = 0, mass_constant = 0, source_constant = 0, inv_dt = 0, stiffness = 0;
   bool mls_gradient = false;
