@@ -48,7 +48,8 @@ def main():
     bpy.ops.wm.read_factory_settings(use_empty=True)
     fragments = import_obj(a.fragments)
     crack_path = a.fragments.replace("_fragments.obj", "_crack.obj")
-    cracks = import_obj(crack_path) if os.path.exists(crack_path) else []
+    # (A rigid frame has no crack file; its name has no "_fragments.obj" to replace.)
+    cracks = import_obj(crack_path) if crack_path != a.fragments and os.path.exists(crack_path) else []
     lo, hi = world_box(fragments)
     centre, size = (lo + hi) / 2, (hi - lo).length
     for k, o in enumerate(fragments):
