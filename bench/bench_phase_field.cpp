@@ -7,6 +7,7 @@
 // range(0): the cube's side in particles; range(1): 0 = Rankine, 1 = phase field + CG, 2 = phase field
 // + CHOLMOD. Counters: ms per step and of the phase-field stage, CG iterations per solve, unknowns.
 // BM_PhaseFieldInterval: the CG phase field solved every 1, 5 or 10 steps at 512K particles.
+// BM_PhaseFieldOperator: its operator alone, in lattice and in shuffled particle order.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -80,9 +81,10 @@ void BM_PhaseFieldInterval(benchmark::State& state) {
   damage_step(state, 80, 1, static_cast<size_t>(state.range(0)));
 }
 BENCHMARK(BM_PhaseFieldInterval)->Arg(1)->Arg(5)->Arg(10)->Iterations(20)->Unit(benchmark::kMillisecond)->UseRealTime();
-// The phase-field operator alone (one y = (M + H) x, the CG's inner pass) and one whole solve, at n^3
-// particles two per cell and axis: range(0) = n, range(1) = 1 to shuffle the particle order (a solid
-// sampled in no spatial order) or 0 (lattice order). Counter: ns per particle per pass.
+// The phase-field operator alone (one y = (M + H) x, the CG's inner pass, after one solve has assembled
+// the system) at n^3 particles two per cell and axis: range(0) = n, range(1) = 1 to shuffle the particle
+// order (a solid sampled in no spatial order) or 0 (lattice order, as solids are sampled). Counter: ns
+// per particle per pass.
 void BM_PhaseFieldOperator(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   const double s = 0.0025, dx = 2 * s;
