@@ -96,8 +96,10 @@ long SolidGrid::nearest_node(const GVec3& x) const {
                     static_cast<int>(std::lround(x.z() * inv_dx_)));
 }
 
-void SolidGrid::rebuild(const GVec3* x, size_t n, const std::vector<GVec3>& extra, bool two_fields, size_t memory_limit) {
-  // 1. Bounding box (and the first non-finite particle, reported by index).
+namespace {
+
+// The particles' bounding box; throws naming the first particle (by index) with a non-finite position.
+void particle_box(const GVec3* x, size_t n, GVec3& lo, GVec3& hi) {
   struct Box {
     GVec3 lo = GVec3::Constant(std::numeric_limits<double>::infinity());
     GVec3 hi = GVec3::Constant(-std::numeric_limits<double>::infinity());
@@ -127,12 +129,25 @@ void SolidGrid::rebuild(const GVec3* x, size_t n, const std::vector<GVec3>& extr
     m << "particle " << box.bad << " has a non-finite position (the step diverged; lower the time step)";
     throw NumericalError(m.str());
   }
-  GVec3 lo = box.lo, hi = box.hi;
+  lo = box.lo;
+  hi = box.hi;
+}
+
+}  // namespace
+
+void SolidGrid::rebuild(const GVec3* x, size_t n, const std::vector<GVec3>& extra, bool two_fields, size_t memory_limit) {
+  GVec3 lo, hi;
+  particle_box(x, n, lo, hi);
   for (const GVec3& e : extra) {
     lo = lo.cwiseMin(e);
     hi = hi.cwiseMax(e);
   }
   if (n == 0 && extra.empty()) lo = hi = GVec3::Zero();
+  allocate_box(lo, hi, two_fields, memory_limit);
+  bin_into_slabs(x, n);
+}
+
+void SolidGrid::allocate_box(const GVec3& lo, const GVec3& hi, bool two_fields, size_t memory_limit) {
   // Node ranges in doubles first: material flown far enough apart would overflow an int index, and the
   // size check must see the true extent before anything is cast or allocated.
   Eigen::Vector3d lo_d, extent;
@@ -151,11 +166,10 @@ void SolidGrid::rebuild(const GVec3* x, size_t n, const std::vector<GVec3>& extr
       << " m is too small";
     throw NumericalError(m.str());
   }
-  const Eigen::Vector3i lo_node = lo_d.cast<int>(), dims = extent.cast<int>();
-  lo_ = lo_node;
-  dims_ = dims;
-  stride_y_ = dims.x();
-  stride_z_ = static_cast<long>(dims.x()) * dims.y();
+  lo_ = lo_d.cast<int>();
+  dims_ = extent.cast<int>();
+  stride_y_ = dims_.x();
+  stride_z_ = static_cast<long>(dims_.x()) * dims_.y();
   two_fields_ = two_fields;
   const size_t count = static_cast<size_t>(nodes);
   field_[0].assign(count, GridNode{0, {0, 0, 0}});
@@ -166,8 +180,10 @@ void SolidGrid::rebuild(const GVec3* x, size_t n, const std::vector<GVec3>& extr
     field_[1].clear();
     normal_.clear();
   }
+}
 
-  // 2. Slabs four nodes thick along the longest axis; stable counting sort keeps index order inside one.
+void SolidGrid::bin_into_slabs(const GVec3* x, size_t n) {
+  // Slabs four nodes thick along the longest axis; a stable counting sort keeps index order inside one.
   // Ties go to z: particles sampled in z-major order then stay contiguous inside a slab.
   slab_axis_ = 2;
   for (int a = 1; a >= 0; --a)

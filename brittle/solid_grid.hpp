@@ -123,6 +123,10 @@ class SolidGrid {
   const detail::TransferKernels& kernels() const { return *kernels_; }
 
  private:
+  // rebuild's steps: the node box over [lo, hi] (refused above memory_limit) with zeroed nodes, and the
+  // particles' slab order.
+  void allocate_box(const GVec3& lo, const GVec3& hi, bool two_fields, size_t memory_limit);
+  void bin_into_slabs(const GVec3* x, size_t n);
   // The crack normal of a node padded to four doubles (one vector in the kernels).
   struct alignas(32) NodeNormal {
     double n[4];
