@@ -15,73 +15,103 @@ void CrackSides::clear() {
   mask_.clear();
 }
 
-void CrackSides::set_crack(const TriMesh& crack, const std::vector<Vec3>& rest, double radius, double spacing) {
-  clear();
-  if (crack.triangles.empty() || rest.empty()) return;
-  const TriangleIndex index(crack.positions, crack.triangles, 0.25 * radius, radius + spacing);
-  // Closest crack points are looked up once per node of a material-space grid of the given spacing (far
-  // fewer nodes than particles near a crack), and each particle uses its nearest node's: on a face the
-  // particle's side is the sign of its offset along the face normal, which does not depend on where on
-  // the face the foot lies; off the faces (near a crack front) the direction from the foot.
-  Vec3 lo = rest.front(), hi = lo;
-  for (const Vec3& x : rest) {
-    lo = lo.cwiseMin(x);
-    hi = hi.cwiseMax(x);
-  }
-  const Eigen::Vector3i base = (lo / spacing).array().floor().cast<int>();
-  const Eigen::Vector3i dims = Eigen::Vector3i((hi / spacing).array().floor().cast<int>()) - base + Eigen::Vector3i::Constant(2);
-  const size_t nodes = static_cast<size_t>(dims.x()) * dims.y() * dims.z();
-  auto node_of = [&](const Vec3& x) {
-    const Eigen::Vector3i c = Eigen::Vector3i((x / spacing).array().round().cast<int>()) - base;
-    return static_cast<size_t>(c.x() + dims.x() * (c.y() + static_cast<long>(dims.y()) * c.z()));
-  };
-  // Only the nodes some particle reads: most of a statue's bounding box is outside it.
-  std::vector<uint8_t> used(nodes, 0);
-  for (const Vec3& x : rest) used[node_of(x)] = 1;
-  std::vector<TriangleIndex::Hit> hit(nodes);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, nodes, 256), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t n = r.begin(); n != r.end(); ++n) {
-      if (!used[n]) continue;
-      const long i = static_cast<long>(n) % dims.x(), j = (static_cast<long>(n) / dims.x()) % dims.y(),
-                 k = static_cast<long>(n) / (static_cast<long>(dims.x()) * dims.y());
-      hit[n] = index.closest(Vec3(static_cast<double>(base.x() + i), static_cast<double>(base.y() + j), static_cast<double>(base.z() + k)) * spacing,
-                             radius + spacing);
+namespace {
+
+constexpr double kFaceInterior = 1e-6;  // barycentric margin: the foot lies inside a face
+
+// Closest crack points looked up once per node of a material-space grid of the given spacing (far fewer
+// nodes than particles near a crack), and each particle uses its nearest node's: on a face the
+// particle's side is the sign of its offset along the face normal, which does not depend on where on
+// the face the foot lies; off the faces (near a crack front) the direction from the foot.
+class NodeHits {
+ public:
+  NodeHits(const TriangleIndex& index, const std::vector<Vec3>& rest, double spacing, double reach) : spacing_(spacing) {
+    Vec3 lo = rest.front(), hi = lo;
+    for (const Vec3& x : rest) {
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
     }
-  });
-  const size_t n = rest.size();
-  slot_.assign(n, -1);
-  mask_.assign(n, 0);
-  constexpr double kFaceInterior = 1e-6;  // barycentric margin: the foot lies inside a face
-  // Boundary edges and vertices of the crack sheet: its fronts (and rims), where the side of a point is
-  // the direction from its foot rather than a face normal.
-  std::map<std::pair<int, int>, int> edge_uses;
-  for (const Tri& t : crack.triangles)
-    for (int k = 0; k < 3; ++k) ++edge_uses[std::minmax(t[k], t[(k + 1) % 3])];
-  std::vector<char> boundary_vertex(crack.positions.size(), 0);
-  for (const auto& [e, uses] : edge_uses)
-    if (uses == 1) boundary_vertex[static_cast<size_t>(e.first)] = boundary_vertex[static_cast<size_t>(e.second)] = 1;
-  auto on_front = [&](const TriangleIndex::Hit& h) {
-    const Tri& t = crack.triangles[static_cast<size_t>(h.triangle)];
+    base_ = (lo / spacing).array().floor().cast<int>();
+    dims_ = Eigen::Vector3i((hi / spacing).array().floor().cast<int>()) - base_ + Eigen::Vector3i::Constant(2);
+    const size_t nodes = static_cast<size_t>(dims_.x()) * dims_.y() * dims_.z();
+    // Only the nodes some particle reads: most of a statue's bounding box is outside it.
+    std::vector<uint8_t> used(nodes, 0);
+    for (const Vec3& x : rest) used[node_of(x)] = 1;
+    hit_.resize(nodes);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, nodes, 256), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t n = r.begin(); n != r.end(); ++n) {
+        if (!used[n]) continue;
+        const long i = static_cast<long>(n) % dims_.x(), j = (static_cast<long>(n) / dims_.x()) % dims_.y(),
+                   k = static_cast<long>(n) / (static_cast<long>(dims_.x()) * dims_.y());
+        const Vec3 node(static_cast<double>(base_.x() + i), static_cast<double>(base_.y() + j),
+                        static_cast<double>(base_.z() + k));
+        hit_[n] = index.closest(node * spacing, reach);
+      }
+    });
+  }
+  const TriangleIndex::Hit& at(const Vec3& x) const { return hit_[node_of(x)]; }
+
+ private:
+  size_t node_of(const Vec3& x) const {
+    const Eigen::Vector3i c = Eigen::Vector3i((x / spacing_).array().round().cast<int>()) - base_;
+    return static_cast<size_t>(c.x() + dims_.x() * (c.y() + static_cast<long>(dims_.y()) * c.z()));
+  }
+  double spacing_;
+  Eigen::Vector3i base_, dims_;
+  std::vector<TriangleIndex::Hit> hit_;
+};
+
+// The boundary edges and vertices of a crack sheet: its fronts (and rims), where the side of a point is
+// the direction from its foot rather than a face normal.
+class SheetFronts {
+ public:
+  explicit SheetFronts(const TriMesh& crack) : crack_(crack), boundary_vertex_(crack.positions.size(), 0) {
+    for (const Tri& t : crack.triangles)
+      for (int k = 0; k < 3; ++k) ++edge_uses_[std::minmax(t[k], t[(k + 1) % 3])];
+    for (const auto& [e, uses] : edge_uses_)
+      if (uses == 1) boundary_vertex_[static_cast<size_t>(e.first)] = boundary_vertex_[static_cast<size_t>(e.second)] = 1;
+  }
+  // Whether a foot lies on a boundary edge or vertex.
+  bool contains(const TriangleIndex::Hit& h) const {
+    const Tri& t = crack_.triangles[static_cast<size_t>(h.triangle)];
     int zeros = 0, zero = -1;
     for (int k = 0; k < 3; ++k)
       if (h.barycentric[k] <= kFaceInterior) ++zeros, zero = k;
     if (zeros == 0) return false;
     if (zeros == 1) {  // on the edge opposite corner `zero`
-      const auto it = edge_uses.find(std::minmax(t[(zero + 1) % 3], t[(zero + 2) % 3]));
-      return it != edge_uses.end() && it->second == 1;
+      const auto it = edge_uses_.find(std::minmax(t[(zero + 1) % 3], t[(zero + 2) % 3]));
+      return it != edge_uses_.end() && it->second == 1;
     }
     for (int k = 0; k < 3; ++k)  // at a corner
-      if (h.barycentric[k] > kFaceInterior) return boundary_vertex[static_cast<size_t>(t[k])] != 0;
+      if (h.barycentric[k] > kFaceInterior) return boundary_vertex_[static_cast<size_t>(t[k])] != 0;
     return false;
-  };
+  }
+
+ private:
+  const TriMesh& crack_;
+  std::map<std::pair<int, int>, int> edge_uses_;
+  std::vector<char> boundary_vertex_;
+};
+
+}  // namespace
+
+void CrackSides::set_crack(const TriMesh& crack, const std::vector<Vec3>& rest, double radius, double spacing) {
+  clear();
+  if (crack.triangles.empty() || rest.empty()) return;
+  const TriangleIndex index(crack.positions, crack.triangles, 0.25 * radius, radius + spacing);
+  const NodeHits hits(index, rest, spacing, radius + spacing);
+  const SheetFronts fronts(crack);
+  const size_t n = rest.size();
+  slot_.assign(n, -1);
+  mask_.assign(n, 0);
   for (size_t p = 0; p < n; ++p) {
-    const TriangleIndex::Hit& h = hit[node_of(rest[p])];
+    const TriangleIndex::Hit& h = hits.at(rest[p]);
     if (!h.found) continue;
     const Vec3 offset = rest[p] - h.point;
     const Vec3& face = index.triangle_normal(h.triangle);
     Vec3 dir;
     double distance;
-    if (!on_front(h) && face.squaredNorm() > 0) {
+    if (!fronts.contains(h) && face.squaredNorm() > 0) {
       // On a face or an inner edge of the sheet (a ridge between nearly coplanar faces): the side is
       // the sign of the offset along the face normal.
       distance = offset.dot(face);
