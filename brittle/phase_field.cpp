@@ -133,7 +133,8 @@ size_t PhaseFieldSystem::analyses() const { return cholmod_ ? cholmod_->analyses
 
 void PhaseFieldSystem::assemble(const SolidGrid& grid, const PhaseFieldParticles& p, double dt) {
   const size_t n = grid.num_nodes();
-  for (std::vector<double>* v : {&weight_, &c_old_, &diag_, &rhs_, &precond_}) v->assign(n, 0.0);
+  for (std::vector<double>* v : {&c_old_, &diag_, &rhs_}) v->resize(n);  // set from lumped_ below
+  precond_.assign(n, 0.0);
   free_.assign(n, 0);
   const double Mc = options_.mobility, r = options_.residual;
   const double inv_dt = dt > 0 ? 1.0 / dt : 0.0;
@@ -154,11 +155,10 @@ void PhaseFieldSystem::assemble(const SolidGrid& grid, const PhaseFieldParticles
   over_slabs(grid, grid.kernels().phase_field_assembly, args);
   for_nodes(n, [&](size_t i) {
     const LumpedNode& l = lumped_[i];
-    weight_[i] = l.weight;
     diag_[i] = l.mass;
     rhs_[i] = l.source;
-    if (weight_[i] > 0) {
-      c_old_[i] = l.weighted_c / weight_[i];
+    if (l.weight > 0) {
+      c_old_[i] = l.weighted_c / l.weight;
       free_[i] = 1;
     } else {
       c_old_[i] = 1.0;

@@ -109,7 +109,7 @@ class PhaseFieldSystem {
   PhaseFieldOptions options_;
   double G_, dx_, l0_;
   // Dense node vectors over the grid box.
-  std::vector<double> weight_, c_old_, c_, diag_, rhs_, precond_;
+  std::vector<double> c_old_, c_, diag_, rhs_, precond_;
   std::vector<uint8_t> free_;
   // The assembly's scratch: the four w-weighted sums of a node side by side (one vector per node).
   struct alignas(32) LumpedNode {

@@ -40,30 +40,21 @@ SB_INLINE double dot3(const V4& u, const V4& v) {
   return lane(m, 0) + lane(m, 1) + lane(m, 2);
 }
 
-// A particle's quadratic B-spline weights w[axis][i] (Eq. 2.10), their gradient factors d[axis][i] (the
-// spline derivative, or CD-MPM's MLS factor 4/dx^2 w (x_i - x_p) of sec. 4.2.2) and its base node.
-SB_INLINE long phase_stencil(const ConstTransferGrid& g, const double* xp, bool mls_gradient, double w[3][3],
-                             double d[3][3]) {
-  const long stride[3] = {1, g.stride_y, g.stride_z};
+// The gradient factors d[axis][i] of a particle's stencil (make_stencil): the derivative of the quadratic
+// B-spline (Eq. 2.10), or CD-MPM's MLS factor 4/dx^2 w (x_i - x_p) of sec. 4.2.2. grad Theta_ijk is then
+// (d_i w_j w_k, w_i d_j w_k, w_i w_j d_k).
+SB_INLINE void gradient_factors(const Stencil& st, const ConstTransferGrid& g, bool mls_gradient, double d[3][3]) {
   const double mls = 4.0 * g.inv_dx * g.inv_dx;
-  long base = 0;
   for (int ax = 0; ax < 3; ++ax) {
-    const double s = xp[ax] * g.inv_dx;
-    const int b = static_cast<int>(std::floor(s - 0.5));
-    const double f = s - b;  // in [0.5, 1.5)
-    base += (b - g.lo[ax]) * stride[ax];
-    w[ax][0] = 0.5 * (1.5 - f) * (1.5 - f);
-    w[ax][1] = 0.75 - (f - 1.0) * (f - 1.0);
-    w[ax][2] = 0.5 * (f - 0.5) * (f - 0.5);
     if (mls_gradient) {
-      for (int i = 0; i < 3; ++i) d[ax][i] = mls * w[ax][i] * (i - f) * g.dx;
-    } else {  // Eq. 2.10 differentiated
+      for (int i = 0; i < 3; ++i) d[ax][i] = mls * st.w[ax][i] * st.d[ax][i];
+    } else {
+      const double f = -st.d[ax][0] * g.inv_dx;  // q - base in [0.5, 1.5)
       d[ax][0] = -(1.5 - f) * g.inv_dx;
       d[ax][1] = -2.0 * (f - 1.0) * g.inv_dx;
       d[ax][2] = (f - 0.5) * g.inv_dx;
     }
   }
-  return base;
 }
 
 // The node offset of stencil row (j, k).
@@ -77,8 +68,12 @@ void phase_field_operator_kernel(const ConstTransferGrid& g, const PhaseFieldOpe
   const V4 zero = make4(0.0, 0.0, 0.0, 0.0);
   for (size_t e = begin; e < end; ++e) {
     const size_t q = order[e];
-    double w[3][3], d[3][3];
-    const long base = phase_stencil(g, a.position + 3 * q, a.mls_gradient, w, d);
+    Stencil st;
+    make_stencil(a.position + 3 * q, g, st);
+    double d[3][3];
+    gradient_factors(st, g, a.mls_gradient, d);
+    const long base = st.base;
+    const double(&w)[3][3] = st.w;
     const V4 wx = make4(w[0][0], w[0][1], w[0][2], 0.0), dx = make4(d[0][0], d[0][1], d[0][2], 0.0);
     // Sum over j per k (P with w_j, Q with g_j), then over k.
     V4 wp = zero, dp = zero, wq = zero;
@@ -111,8 +106,12 @@ void phase_field_assembly_kernel(const ConstTransferGrid& g, const PhaseFieldAss
                                  size_t begin, size_t end) {
   for (size_t e = begin; e < end; ++e) {
     const size_t q = order[e];
-    double w[3][3], d[3][3];
-    const long base = phase_stencil(g, a.position + 3 * q, a.mls_gradient, w, d);
+    Stencil st;
+    make_stencil(a.position + 3 * q, g, st);
+    double d[3][3];
+    gradient_factors(st, g, a.mls_gradient, d);
+    const long base = st.base;
+    const double(&w)[3][3] = st.w;
     const double V = a.volume[q], cq = a.c[q];
     const double mass = V * (a.history_factor * a.history[q] + a.mass_constant);  // M_ii integrand
     const double source = V * (a.source_constant + cq * a.inv_dt);                // r_i integrand
@@ -138,8 +137,10 @@ void phase_field_assembly_kernel(const ConstTransferGrid& g, const PhaseFieldAss
 // (c_i^{n+1} - c_i^n))).
 void phase_field_gather_kernel(const ConstTransferGrid& g, const PhaseFieldGatherArgs& a, size_t begin, size_t end) {
   for (size_t q = begin; q < end; ++q) {
-    double w[3][3], d[3][3];
-    const long base = phase_stencil(g, a.position + 3 * q, false, w, d);
+    Stencil st;
+    make_stencil(a.position + 3 * q, g, st);
+    const long base = st.base;
+    const double(&w)[3][3] = st.w;
     const V4 wx = make4(w[0][0], w[0][1], w[0][2], 0.0);
     V4 sum = make4(0.0, 0.0, 0.0, 0.0);
     for (int k = 0; k < 3; ++k)
