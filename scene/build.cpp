@@ -49,7 +49,7 @@ model::CrackSettings build_cracks(const Cracks& c) {
   out.max_support = c.max_support.value_or(out.max_support);
   out.shadow_offset = c.shadow_offset.value_or(out.shadow_offset);
   out.tip_diffraction = c.tip_weights.value_or("diffraction") == "diffraction";
-  out.continuous_support = c.support.value_or("stepped") == "continuous";
+  out.continuous_support = c.support.value_or("continuous") == "continuous";
   out.support_margin = c.support_margin.value_or(out.support_margin);
   out.mass_scaling = c.mass_scaling.value_or(out.mass_scaling);
   return out;
@@ -73,8 +73,8 @@ Model build(const Scene& input) {
   m.damping = scene.damping.value_or(0.0);
   m.grid.dx = scene.grid.dx;
   // "adaptive" is the default: energy-conserving affine-FLIP on intact elastic material, APIC where damage,
-  // plastic flow, cracks or seams act; a shell that can crack turns to PIC everywhere once it is damaged
-  // or cut (cracking_shells, docs/shell-model.md, "Transfer").
+  // plastic flow, cracks or seams act; on a shell that can crack the particles beside damage run PIC
+  // (cracking_shells, docs/shell-model.md, "Transfer").
   const std::string transfer = scene.grid.transfer.value_or("adaptive");
   m.grid.apic = transfer == "apic" || transfer == "aflip" || transfer == "adaptive";
   if (transfer == "flip" || transfer == "aflip") m.grid.flip = scene.grid.flip_ratio.value_or(model::kDefaultFlipRatio);
@@ -83,14 +83,14 @@ Model build(const Scene& input) {
     m.grid.flip = scene.grid.flip_ratio.value_or(model::kDefaultIntactFlipRatio);
     m.grid.flip_active = scene.grid.flip_ratio_active.value_or(model::kDefaultActiveFlipRatio);
     using Cracking = model::GridSettings::CrackingShells;
-    const std::string cracking = scene.grid.cracking_shells.value_or("pic_while_damaged");
+    const std::string cracking = scene.grid.cracking_shells.value_or("pic_where_damaged");
     m.grid.cracking = cracking == "pic"                  ? Cracking::Pic
                       : cracking == "adaptive"           ? Cracking::Adaptive
                       : cracking == "adaptive_then_apic" ? Cracking::AdaptiveThenApic
                       : cracking == "adaptive_then_pic"  ? Cracking::AdaptiveThenPic
                       : cracking == "rpic_while_damaged" ? Cracking::RpicWhileDamaged
-                      : cracking == "pic_where_damaged"  ? Cracking::PicWhereDamaged
-                                                         : Cracking::PicWhileDamaged;
+                      : cracking == "pic_while_damaged"  ? Cracking::PicWhileDamaged
+                                                         : Cracking::PicWhereDamaged;
     // With cracking_shells "pic" and every shell able to crack, the whole scene is PIC, exactly as
     // "transfer": "pic".
     bool any = false;

@@ -570,7 +570,7 @@ void describe(V& v, Grid& g) {
                : "";
   });
   v.choice("cracking_shells", g.cracking_shells,
-           {"pic_while_damaged", "rpic_while_damaged", "pic_where_damaged", "adaptive_then_pic", "adaptive_then_apic", "adaptive", "pic"});
+           {"pic_where_damaged", "pic_while_damaged", "rpic_while_damaged", "adaptive_then_pic", "adaptive_then_apic", "adaptive", "pic"});
   v.check("cracking_shells", [&] {
     return g.cracking_shells && g.transfer && *g.transfer != "adaptive"
                ? "\"cracking_shells\" needs \"transfer\": \"adaptive\""

@@ -209,29 +209,28 @@ struct GridSettings {
   double flip_active = 0.0;
   // Adaptive transfer only: how shells that can crack (Shell::can_crack) run (grid.cracking_shells;
   // docs/shell-model.md, "Transfer").
-  //  - PicWhileDamaged (default): the adaptive transfer, like an intact shell (APIC beside cracks and
-  //    cuts), except while some point of the shell or of a shell a coupled seam ties to it is damaged
-  //    (c > 0): then PIC for all of their particles. With the healing damage rule the damage of a torn
-  //    shell goes back to 0 once its pieces have separated and relaxed, and the pieces keep their swing.
+  //  - PicWhereDamaged (default): the adaptive transfer, like an intact shell (APIC beside cracks and
+  //    cuts), but the particles whose support holds a damaged point run PIC (share 0, affine velocity
+  //    dropped after every g2p); the rest of the shell keeps its shares while it tears.
+  //  - PicWhileDamaged: the adaptive transfer, except while some point of the shell or of a shell a
+  //    coupled seam ties to it is damaged (c > 0): then PIC for all of their particles.
   //  - RpicWhileDamaged: the same, but while damaged its particles keep the rotational part of their
   //    affine velocity (RPIC: angular momentum and rigid rotation kept, stretching modes damped like PIC).
   //  - AdaptiveThenPic: the adaptive transfer until damage or a crack first appears on the shell; from
   //    then on PIC for all of its particles.
   //  - AdaptiveThenApic: the same, but APIC (share 0, affine velocity kept) once damaged.
-  //  - PicWhereDamaged: the adaptive transfer, but the particles whose support holds a damaged point run
-  //    PIC (share 0, affine velocity dropped after every g2p); the rest of the shell keeps its shares.
   //  - Adaptive: the adaptive transfer throughout.
   //  - Pic: PIC throughout, with half of each cell's mass on its shear particles (the rule before).
   enum class CrackingShells {
+    PicWhereDamaged,
     PicWhileDamaged,
     RpicWhileDamaged,
-    PicWhereDamaged,
     AdaptiveThenPic,
     AdaptiveThenApic,
     Adaptive,
     Pic
   };
-  CrackingShells cracking = CrackingShells::PicWhileDamaged;
+  CrackingShells cracking = CrackingShells::PicWhereDamaged;
   // Adaptive transfer only: whether shell s runs it (false: PIC for that shell's particles).
   bool adaptive_shell(const Shell& s) const {
     return adaptive && (cracking != CrackingShells::Pic || !s.can_crack());
@@ -323,9 +322,10 @@ struct CrackSettings {
   // surface stays closed at tips and around bends, docs/mls.md "Tip weights"), false = the thesis's
   // straight-line visibility (sec. 4.6).
   bool tip_diffraction = true;
-  // How cut bases choose their support (shell::SupportRule, docs/mls.md "Support size"): false = the
-  // stepped growth from 1.5 cells (the default), true = continuous; and the continuous rule's margin.
-  bool continuous_support = false;
+  // How cut bases choose their support (shell::SupportRule, docs/mls.md "Support size"): true =
+  // continuous (the default), false = the thesis's stepped growth from 1.5 cells; and the continuous
+  // rule's margin.
+  bool continuous_support = true;
   double support_margin = 1.5;
   // Selective mass scaling beside cracks (ShellPatch::set_mass_scaling_budget): at most this share of a
   // patch's control-point mass is added to the points whose cut bases would shrink the step; 0 adds none.

@@ -418,8 +418,9 @@ struct Grid {
   Opt<std::string> transfer;  // "adaptive" (default), "pic", "apic", "flip", "aflip"
   Opt<double> flip_ratio;     // FLIP share of "flip"/"aflip", or of intact material with "adaptive", in [0, 1]
   Opt<double> flip_ratio_active;  // "adaptive": share next to damage, plastic flow or a crack, in [0, 1]
-  // "adaptive" only, how shells that can crack run: "pic_while_damaged" (default), "rpic_while_damaged",
-  // "adaptive_then_pic", "adaptive_then_apic", "adaptive", "pic" (scene/model.hpp, GridSettings)
+  // "adaptive" only, how shells that can crack run: "pic_where_damaged" (default), "pic_while_damaged",
+  // "rpic_while_damaged", "adaptive_then_pic", "adaptive_then_apic", "adaptive", "pic" (scene/model.hpp,
+  // GridSettings)
   Opt<std::string> cracking_shells;
 };
 
@@ -428,7 +429,7 @@ struct Cracks {
   Opt<bool> phantom_nodes;
   Opt<double> contact_friction, max_support, shadow_offset;
   Opt<std::string> tip_weights;  // "visibility" or "diffraction"
-  Opt<std::string> support;      // "continuous" or "stepped"
+  Opt<std::string> support;      // "continuous" (default) or "stepped"
   Opt<double> support_margin;
   Opt<double> mass_scaling;      // added-mass budget beside cracks, a share of each patch's mass
 };

@@ -91,7 +91,8 @@ class Simulation {
   double advected_kinetic_energy() const { return world_.advected_kinetic_energy(); }
   Eigen::Vector3d linear_momentum() const { return world_.linear_momentum(); }
   // Whether shell i, which can crack, runs PIC (RPIC, APIC) instead of the adaptive shares at this step:
-  // while it is damaged (grid.cracking_shells "pic_while_damaged", the default, or "rpic_while_damaged"),
+  // while it is damaged (grid.cracking_shells "pic_while_damaged" or "rpic_while_damaged"; never under the
+  // default "pic_where_damaged", which runs only the particles beside damage as PIC),
   // or for good since damage or a crack appeared on it ("adaptive_then_pic", "adaptive_then_apic").
   bool transfer_turned(size_t shell) const { return shares_.turned(shell); }
   // Total force the pins exert on shell i over the last step (sim/pin_system.hpp: minus the force on the

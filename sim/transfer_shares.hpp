@@ -20,13 +20,13 @@
 //    2 s beside affine-FLIP control points.
 //  - Solid particles (Type I) take `active`: their Neo-Hookean bulk has no thin-shell bending to keep.
 //  - A shell that can crack (fracture material or cuts) runs the same shares as an intact one, APIC beside
-//    its cracks and cuts included, except while some point of it, or of a shell a coupled seam ties to it,
-//    is damaged (c > 0; grid.cracking_shells "pic_while_damaged", the default): then PIC (share 0, its
-//    affine velocity dropped). While material is tearing, the FLIP share and even APIC's affine velocity
-//    let fully damaged flaps and opening tips draw the render surface out, which PIC's averaging does
-//    not; once the damage has healed the pieces move as sheets again (docs/shell-model.md, "Transfer").
-//    "rpic_while_damaged" keeps the rotational part of the affine velocity in that spell instead (opt-in),
-//    "pic_where_damaged" runs only the particles beside damage as PIC and keeps the rest adaptive (opt-in),
+//    its cracks and cuts included, and the particles beside damage run PIC (grid.cracking_shells
+//    "pic_where_damaged", the default): every control point in the support of a cell holding a damaged
+//    layer point (c > 0), and that cell's shear particle, take share 0 and lose their affine velocity
+//    after each g2p. A damaged particle's own kept affine velocity (even its rotation alone, RPIC) draws
+//    fully damaged flaps and opening tips out; PIC's averaging does not (docs/shell-model.md, "Transfer").
+//    "pic_while_damaged" runs the whole shell, and its seam group, as PIC while any point is damaged;
+//    "rpic_while_damaged" keeps the rotational part of the affine velocity in that spell instead;
 //    "adaptive_then_pic" / "adaptive_then_apic" turn a shell for good at its first damage or crack,
 //    "adaptive" keeps the adaptive shares anyway, "pic" runs such shells as PIC throughout.
 // The shares differ between particles, so the grid's g2p restores exact linear momentum (mpm/sparse_grid.cpp).

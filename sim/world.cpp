@@ -52,8 +52,8 @@ World::World(const scene::Model& model) {
     }
     initial_positions_.push_back(patches_.back().x);
     transfer_mass_.push_back(patches_.back().mass);
-    // A shell that can crack runs PIC under the adaptive transfer (unless grid.cracking_shells says
-    // otherwise): no affine velocity and no FLIP part.
+    // A shell that grid.cracking_shells "pic" puts on PIC under the adaptive transfer has no affine
+    // velocity and no FLIP part.
     const bool pic_shell = model.grid.adaptive && !model.grid.adaptive_shell(s);
     affine_.emplace_back(model.grid.apic && !pic_shell ? patches_.back().x.size() : 0, Eigen::Matrix3d::Zero());
     shear_affine_.emplace_back(model.grid.apic && !pic_shell ? patches_.back().shear.x.size() : 0, Eigen::Matrix3d::Zero());

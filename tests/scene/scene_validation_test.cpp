@@ -208,15 +208,17 @@ TEST(SceneParse, TipWeightsDefaultToDiffractionAndAcceptVisibility) {
   EXPECT_TRUE(build_model(j.dump(), "ok.json").cracks.tip_diffraction);
 }
 
-TEST(SceneParse, SupportRuleDefaultsToSteppedAndAcceptsContinuous) {
+TEST(SceneParse, SupportRuleDefaultsToContinuousAndAcceptsStepped) {
   const Model plain = build_model(valid_scene().dump(), "ok.json");
-  EXPECT_FALSE(plain.cracks.continuous_support);
+  EXPECT_TRUE(plain.cracks.continuous_support);
   EXPECT_EQ(plain.cracks.support_margin, 1.5);
   Json j = valid_scene();
   j["cracks"] = Json::parse(R"({"support": "continuous", "support_margin": 1.25})");
   const Model continuous = build_model(j.dump(), "ok.json");
   EXPECT_TRUE(continuous.cracks.continuous_support);
   EXPECT_EQ(continuous.cracks.support_margin, 1.25);
+  j["cracks"] = Json::parse(R"({"support": "stepped"})");
+  EXPECT_FALSE(build_model(j.dump(), "ok.json").cracks.continuous_support);
 }
 
 TEST(SceneParse, ValidSceneBuildsTheExpectedPatches) {

@@ -82,14 +82,15 @@ double shear_mass_share(const shell::ShellPatch& p) {
   return shear / (shear + total);
 }
 
-// The default transfer is adaptive, and by default (cracking_shells "pic_while_damaged") a shell that can
+// The default transfer is adaptive, and by default (cracking_shells "pic_where_damaged") a shell that can
 // crack but is not damaged runs it like an intact one (0.2 of the cell mass on its shear particles, an
 // affine velocity and a FLIP part), APIC beside its cut: the cut shell's control points far from the cut
 // keep share 1, those whose support the cut crosses take 0, and it is not turned.
 TEST(AdaptiveTransfer, ByDefaultAnUndamagedCutShellKeepsTheAdaptiveShares) {
   const scene::Model model = intact_and_cut("");
-  EXPECT_TRUE(model.grid.pic_while_damaged(model.shells[1]));
-  EXPECT_FALSE(model.grid.pic_while_damaged(model.shells[0]));  // cannot crack
+  EXPECT_TRUE(model.grid.pic_where_damaged(model.shells[1]));
+  EXPECT_FALSE(model.grid.pic_while_damaged(model.shells[1]));
+  EXPECT_FALSE(model.grid.pic_where_damaged(model.shells[0]));  // cannot crack
   EXPECT_FALSE(model.grid.turns_once_damaged(model.shells[1]));
   Simulation sim(model);
   for (int s = 0; s < 5; ++s) sim.step(0.5 * sim.stable_dt());

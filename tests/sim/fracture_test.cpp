@@ -38,17 +38,16 @@ std::string tear_scene(const std::string& material_extra, const std::string& sce
 
 TEST(Fracture, ModeOneTearIsStraightConsistentAndKeepsItsArea) {
   Simulation sim(scene::build_model(tear_scene(""), "tear.json"));
-  // By default the sheet runs PIC exactly while some point is damaged (cracking_shells
-  // "pic_while_damaged"): during the tear, and no longer once the healing damage is gone.
-  bool pic_while_damaged = true, turned_at_some_step = false;
+  // By default (cracking_shells "pic_where_damaged") the sheet never runs PIC as a whole, not even while
+  // it tears.
+  bool turned_at_some_step = false, damaged_at_some_step = false;
   sim.advance_to(1.2, [&] {
-    const bool damaged = sim.world().shell(0).max_damage() > 0;
+    damaged_at_some_step = damaged_at_some_step || sim.world().shell(0).max_damage() > 0;
     turned_at_some_step = turned_at_some_step || sim.transfer_turned(0);
-    pic_while_damaged = pic_while_damaged && sim.transfer_turned(0) == damaged;
     return false;
   });
-  EXPECT_TRUE(turned_at_some_step);
-  EXPECT_TRUE(pic_while_damaged);
+  EXPECT_TRUE(damaged_at_some_step);
+  EXPECT_FALSE(turned_at_some_step);
   const CrackStats& st = sim.crack_stats();
   EXPECT_GE(st.extractions, 5);  // extractions run only when the fully damaged set grew
   EXPECT_EQ(st.subset_violations, 0u);  // every extraction contains the previous crack exactly
@@ -70,14 +69,29 @@ TEST(Fracture, ModeOneTearIsStraightConsistentAndKeepsItsArea) {
   EXPECT_LE(area, 1.02);
 }
 
-// cracking_shells "pic_where_damaged" (opt-in): while the sheet tears, only the particles whose support
-// holds a damaged point run PIC; the rest keep the adaptive shares. Checked at every step of the mode-I
-// tear: the shell never turns as a whole, every control point of a damaged cell's support has share 0 and
-// no affine velocity after g2p (PIC), and while damaged some control points far from it keep share 1
-// (affine-FLIP, times the scene damping factor). The tear still goes through.
-TEST(Fracture, PicWhereDamagedRunsOnlyTheDamagedSupportAsPic) {
-  Simulation sim(scene::build_model(
-      tear_scene("", R"(, "grid": {"transfer": "adaptive", "cracking_shells": "pic_where_damaged"})"), "tear.json"));
+// cracking_shells "pic_while_damaged" (the default before 2026-12-07): the sheet runs PIC as a whole
+// exactly while some point is damaged: during the tear, and no longer once the healing damage is gone.
+TEST(Fracture, PicWhileDamagedTurnsTheWholeSheetExactlyWhileDamaged) {
+  Simulation sim(scene::build_model(tear_scene("", R"(, "grid": {"cracking_shells": "pic_while_damaged"})"), "tear.json"));
+  bool pic_while_damaged = true, turned_at_some_step = false;
+  sim.advance_to(1.2, [&] {
+    const bool damaged = sim.world().shell(0).max_damage() > 0;
+    turned_at_some_step = turned_at_some_step || sim.transfer_turned(0);
+    pic_while_damaged = pic_while_damaged && sim.transfer_turned(0) == damaged;
+    return false;
+  });
+  EXPECT_TRUE(turned_at_some_step);
+  EXPECT_TRUE(pic_while_damaged);
+  EXPECT_EQ(render_mesh::count_components(output::render_meshes(sim)[0]), 2);
+}
+
+// The default (cracking_shells "pic_where_damaged"): while the sheet tears, only the particles whose
+// support holds a damaged point run PIC; the rest keep the adaptive shares. Checked at every step of the
+// mode-I tear: the shell never turns as a whole, every control point of a damaged cell's support has share
+// 0 and no affine velocity after g2p (PIC), and while damaged some control points far from it keep share
+// 1 (affine-FLIP, times the scene damping factor). The tear still goes through.
+TEST(Fracture, ByDefaultOnlyTheDamagedSupportRunsAsPic) {
+  Simulation sim(scene::build_model(tear_scene(""), "tear.json"));
   const World& w = sim.world();
   const shell::ShellPatch& p = w.shell(0);
   const mpm::ParticleSet& control = w.particle_sets()[w.control_set(0)];

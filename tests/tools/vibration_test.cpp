@@ -281,7 +281,7 @@ TEST(Vibration, TornBoardSwingsOn) {
   // Torn pieces must keep their swing. The same board, cut through across its width at u = 0.6
   // (a torn board whose outer 0.2 m has come off), swings on its hinge as a 0.3 m board. Probed at
   // u = 0.4, whose NURBS support lies on the hinged side. By default (cracking_shells
-  // "pic_while_damaged") the cut shell, never damaged, runs the adaptive transfer: after three half swings
+  // "pic_where_damaged") the cut shell, never damaged, runs the adaptive transfer: after three half swings
   // it should reach at least 99% of its starting angle, the criterion for the breakable board above.
   // Turned to PIC for good at its first crack ("adaptive_then_pic") it does not swing through.
   const double end = 2.5, sample = 1e-3;
