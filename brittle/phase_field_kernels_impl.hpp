@@ -57,6 +57,17 @@ SB_INLINE void gradient_factors(const Stencil& st, const ConstTransferGrid& g, b
   }
 }
 
+// A particle's stencil with its gradient factors: what the operator and the assembly read.
+struct GradientStencil {
+  Stencil st;
+  double d[3][3];
+};
+
+SB_INLINE void make_gradient_stencil(const double* x, const ConstTransferGrid& g, bool mls_gradient, GradientStencil& s) {
+  make_stencil(x, g, s.st);
+  gradient_factors(s.st, g, mls_gradient, s.d);
+}
+
 // The node offset of stencil row (j, k).
 SB_INLINE long row_offset(const ConstTransferGrid& g, int j, int k) { return j * g.stride_y + k * g.stride_z; }
 
@@ -68,12 +79,11 @@ void phase_field_operator_kernel(const ConstTransferGrid& g, const PhaseFieldOpe
   const V4 zero = make4(0.0, 0.0, 0.0, 0.0);
   for (size_t e = begin; e < end; ++e) {
     const size_t q = order[e];
-    Stencil st;
-    make_stencil(a.position + 3 * q, g, st);
-    double d[3][3];
-    gradient_factors(st, g, a.mls_gradient, d);
-    const long base = st.base;
-    const double(&w)[3][3] = st.w;
+    GradientStencil s;
+    make_gradient_stencil(a.position + 3 * q, g, a.mls_gradient, s);
+    const long base = s.st.base;
+    const double(&w)[3][3] = s.st.w;
+    const double(&d)[3][3] = s.d;
     const V4 wx = make4(w[0][0], w[0][1], w[0][2], 0.0), dx = make4(d[0][0], d[0][1], d[0][2], 0.0);
     // Sum over j per k (P with w_j, Q with g_j), then over k.
     V4 wp = zero, dp = zero, wq = zero;
@@ -106,12 +116,11 @@ void phase_field_assembly_kernel(const ConstTransferGrid& g, const PhaseFieldAss
                                  size_t begin, size_t end) {
   for (size_t e = begin; e < end; ++e) {
     const size_t q = order[e];
-    Stencil st;
-    make_stencil(a.position + 3 * q, g, st);
-    double d[3][3];
-    gradient_factors(st, g, a.mls_gradient, d);
-    const long base = st.base;
-    const double(&w)[3][3] = st.w;
+    GradientStencil s;
+    make_gradient_stencil(a.position + 3 * q, g, a.mls_gradient, s);
+    const long base = s.st.base;
+    const double(&w)[3][3] = s.st.w;
+    const double(&d)[3][3] = s.d;
     const double V = a.volume[q], cq = a.c[q];
     const double mass = V * (a.history_factor * a.history[q] + a.mass_constant);  // M_ii integrand
     const double source = V * (a.source_constant + cq * a.inv_dt);                // r_i integrand
