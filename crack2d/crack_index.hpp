@@ -60,6 +60,7 @@ class CrackIndex {
   Box domain_;
   int nx_ = 1, ny_ = 1;
   double cell_w_ = 1, cell_h_ = 1;
+  double inv_cell_w_ = 1, inv_cell_h_ = 1;
   std::vector<Segment> segments_;
   std::vector<std::vector<uint32_t>> cells_;
   size_t grid_sized_for_ = 0;  // segment count the current cell size was chosen for

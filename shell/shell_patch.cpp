@@ -357,9 +357,10 @@ ForceFailure ShellPatch::compute_forces() {
   const Type4Data data = type4_data();
   const bool with_director = material_.stress_model == StressModel::DirectorF2D;
   const bool batched = force_kernel_ != ForceKernel::Scalar && num_layers() <= kType4MaxLayers;
+  const bool lane_volume = force_kernel_ == ForceKernel::Batched || force_kernel_ == ForceKernel::BatchedScalarMls;
   // A plastic patch's rest metric changes, so its lanes are gathered from ref_ (build_basis_lanes).
-  const bool lane_ref = force_kernel_ == ForceKernel::Batched && !material_.plasticity.enabled;
-  const bool lane_volume = force_kernel_ == ForceKernel::Batched;
+  const bool lane_ref = lane_volume && !material_.plasticity.enabled;
+  const bool mls_lanes = batched && force_kernel_ != ForceKernel::BatchedScalarMls;
   const size_t n = static_cast<size_t>(support_size_), nq = param_.size();
   std::vector<unsigned char> cell_failed(num_cells_, 0);
   for (MlsSupport& m : slots_)
@@ -461,11 +462,13 @@ ForceFailure ShellPatch::compute_forces() {
         }
       }
       for (size_t q = q_begin; q < q_end; ++q)
-        if (point_slot_[q] >= 0 && !cell_failed[cell_of(q)]) scalar_point(q);
+        if (point_slot_[q] >= 0 && !(mls_lanes && mls_batched_[q]) && !cell_failed[cell_of(q)]) scalar_point(q);
     }
     for (size_t c = r.begin(); c != r.end(); ++c)
       if (!cell_failed[c] && !add_shear_force(c)) cell_failed[c] = 2;
   });
+
+  if (mls_lanes) mls_batch_forces(data, with_director, cell_failed);
 
   ForceFailure failure;
   for (size_t c = 0; c < num_cells_; ++c) {
@@ -494,6 +497,38 @@ ForceFailure ShellPatch::compute_forces() {
     }
   });
   return failure;
+}
+
+void ShellPatch::mls_batch_forces(const Type4Data& data, bool with_director, std::vector<unsigned char>& cell_failed) {
+  // Each lane writes only its own support's forces and its own point's state, so batches run in any
+  // order and the forces do not depend on the threads; statuses are folded into the cells afterwards.
+  std::vector<int> status(mls_batches_.size() * kType4Lanes, kType4Ok);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, mls_batches_.size(), 4), [&](const tbb::blocked_range<size_t>& r) {
+    Type4Batch batch;
+    Type4BatchResult result;
+    for (size_t b = r.begin(); b != r.end(); ++b) {
+      const MlsLaneBatch& mb = mls_batches_[b];
+      batch.n = mb.n;
+      batch.active = mb.active;
+      batch.basis = mls_lane_basis_.data() + 5 * mb.first;
+      for (int i = 0; i < kType4Lanes; ++i) {
+        batch.q[i] = mb.q[i];
+        batch.support[i] = mls_lane_support_.data() + mb.first + static_cast<size_t>(i * mb.n);
+        batch.r33[i] = with_director ? director_stretch(cell_of(mb.q[i])) : 1.0;
+      }
+      type4_force_batch(data, batch, result);
+      for (int i = 0; i < kType4Lanes; ++i) {
+        if (!((mb.active >> i) & 1u)) continue;
+        status[b * kType4Lanes + static_cast<size_t>(i)] = result.status[i];
+        if (result.status[i] != kType4Ok) continue;
+        std::vector<Vec3>& force = slots_[static_cast<size_t>(point_slot_[mb.q[i]])].force;
+        for (size_t s = 0; s < force.size(); ++s)
+          force[s] = Vec3(result.force[s][0][i], result.force[s][1][i], result.force[s][2][i]);
+      }
+    }
+  });
+  for (size_t k = 0; k < status.size(); ++k)
+    if (status[k] != kType4Ok) cell_failed[cell_of(mls_batches_[k / kType4Lanes].q[k % kType4Lanes])] = static_cast<unsigned char>(status[k]);
 }
 
 bool ShellPatch::add_shear_force(size_t c) {

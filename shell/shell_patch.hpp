@@ -98,10 +98,12 @@ struct ForceFailure {
 
 // Which implementation of the Type IV force compute_forces uses (shell/type4_kernel.hpp). Batched: NURBS
 // points eight at a time in vector lanes, their rest metrics and volumes stored in lane order, MLS points
-// by the scalar code; BatchedGathered: the same kernel gathering rest metrics and volumes per lane (what
-// the lane order saves, for bench_forces); Scalar: every point by the scalar reference (for tests and
-// comparisons). All agree to round-off.
-enum class ForceKernel { Batched, BatchedGathered, Scalar };
+// in lanes of their own grouped by support size (linear and oversized supports by the scalar code);
+// BatchedGathered: the same kernel gathering rest metrics and volumes per lane (what the lane order saves,
+// for bench_forces); BatchedScalarMls: NURBS lanes with every MLS point by the scalar code (what the MLS
+// lanes save); Scalar: every point by the scalar reference (for tests and comparisons). All agree to
+// round-off.
+enum class ForceKernel { Batched, BatchedGathered, BatchedScalarMls, Scalar };
 
 // One NURBS patch of a Kirchhoff-Love shell, discretised as in thesis sec. 4.3:
 //  - Type II particles: the control points (position, velocity, lumped mass) — the advected DOFs;
@@ -206,6 +208,8 @@ class ShellPatch {
   CrackUpdate update_crack(const crack2d::CrackIndex& index, size_t first_new_edge, const BasisChainSettings& chain);
   const crack2d::CrackIndex* crack() const { return crack_; }
   size_t num_mls_points() const { return num_mls_points_; }
+  // MLS points whose forces the batched kernel computes (the rest of them run the scalar kernel).
+  size_t num_batched_mls_points() const { return static_cast<size_t>(std::count(mls_batched_.begin(), mls_batched_.end(), 1)); }
   // Material without a basis (census().failures); 0 unless the fallback chain failed somewhere.
   size_t num_mls_failures() const { return census_.failures; }
   const BasisCensus& census() const { return census_; }
@@ -333,6 +337,11 @@ class ShellPatch {
   // True when the crack separates xi from any control point of the NURBS support of `cell`.
   bool nurbs_support_cut(const Vec2& xi, size_t cell, const crack2d::CrackIndex& index) const;
   void rebuild_mls_gather();
+  // Groups the MLS points the batched kernel can take into lanes (mls_batches_), after every basis change.
+  void build_mls_lanes();
+  // The Type IV forces of the MLS points in mls_batches_ (into their supports' own slots); a failing lane
+  // marks its cell in cell_failed.
+  void mls_batch_forces(const Type4Data& data, bool with_director, std::vector<unsigned char>& cell_failed);
 
   // The patch's arrays and constants as the Type IV kernels read them.
   Type4Data type4_data();
@@ -376,6 +385,19 @@ class ShellPatch {
   std::vector<int> mls_gather_offsets_;             // control point -> entries of mls_gather_
   std::vector<std::pair<int, int>> mls_gather_;     // (slot, support entry)
   size_t num_mls_points_ = 0;
+  // MLS points with stress and curvature, sorted by support size and then by point, eight to a batch for
+  // the batched kernel (the last one padded with inactive lanes). A lane whose support is smaller than the
+  // batch's n repeats its first control point with zero basis derivatives, which adds exact zeros.
+  struct MlsLaneBatch {
+    int n = 0;
+    unsigned active = 0;
+    size_t q[kType4Lanes] = {};
+    size_t first = 0;  // offset of the batch's lanes in mls_lane_support_ (n per lane) and mls_lane_basis_
+  };
+  std::vector<MlsLaneBatch> mls_batches_;
+  std::vector<int> mls_lane_support_;      // [batch][lane][n]
+  std::vector<double> mls_lane_basis_;     // [batch][n][5][lane], as basis_lanes_
+  std::vector<unsigned char> mls_batched_;  // per in-plane point: its force comes from mls_batches_
   BasisStiffness reference_stiffness_, basis_stiffness_;  // of the uncut NURBS bases; of the current ones
   // The row sums of basis_stiffness per control point, before dividing by the mass.
   struct BasisRows {

@@ -187,6 +187,7 @@ CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t fi
   report.census = census;
   report.failures = census.failures;
   rebuild_mls_gather();
+  build_mls_lanes();
   for (int32_t s : point_slot_) report.mls_points += s >= 0 && slots_[static_cast<size_t>(s)].level < BasisLevel::Rigid;
   for (int32_t s : shear_slot_) report.mls_shear += s >= 0 && slots_[static_cast<size_t>(s)].level < BasisLevel::Rigid;
   num_mls_points_ = report.mls_points;
@@ -322,6 +323,53 @@ void ShellPatch::rebuild_mls_gather() {
       control_near_crack_[k] = 1;
     }
   for (size_t c = 0; c < num_cells_; ++c) shear_near_crack_[c] = shear_slot_[c] != -1;
+}
+
+void ShellPatch::build_mls_lanes() {
+  mls_batches_.clear();
+  mls_lane_support_.clear();
+  mls_lane_basis_.clear();
+  mls_batched_.assign(param_.size(), 0);
+  // Membrane-only (linear) bases keep the scalar kernel, which drops the curvature for them; so do
+  // supports larger than the kernel's result holds.
+  std::vector<std::pair<size_t, size_t>> points;  // (support size, point)
+  for (size_t q = 0; q < param_.size(); ++q) {
+    const int32_t slot = point_slot_[q];
+    if (slot < 0) continue;
+    const MlsSupport& m = slots_[static_cast<size_t>(slot)];
+    if (m.level >= BasisLevel::Rigid || m.order == 1 || m.index.empty() ||
+        m.index.size() > static_cast<size_t>(kType4MaxSupport))
+      continue;
+    points.emplace_back(m.index.size(), q);
+  }
+  // Sorted by support size, so that a batch pads few entries.
+  std::sort(points.begin(), points.end());
+  const size_t lanes = kType4Lanes;
+  for (size_t b = 0; b < points.size(); b += lanes) {
+    const size_t used = std::min(lanes, points.size() - b);
+    MlsLaneBatch batch;
+    batch.n = static_cast<int>(points[b + used - 1].first);
+    batch.first = mls_lane_support_.size();
+    const size_t n = static_cast<size_t>(batch.n);
+    mls_lane_support_.resize(batch.first + lanes * n);
+    mls_lane_basis_.resize(5 * (batch.first + lanes * n), 0.0);
+    double* basis = mls_lane_basis_.data() + 5 * batch.first;
+    for (size_t i = 0; i < lanes; ++i) {
+      // Padding lanes repeat the first point (valid data, never written back).
+      const size_t q = points[b + (i < used ? i : 0)].second;
+      batch.q[i] = q;
+      if (i < used) {
+        batch.active |= 1u << i;
+        mls_batched_[q] = 1;
+      }
+      const MlsSupport& m = slots_[static_cast<size_t>(point_slot_[q])];
+      int* support = mls_lane_support_.data() + batch.first + i * n;
+      for (size_t s = 0; s < n; ++s) support[s] = m.index[s < m.index.size() ? s : 0];
+      for (size_t s = 0; s < m.index.size(); ++s)
+        for (size_t k = 0; k < 5; ++k) basis[(s * 5 + k) * lanes + i] = m.basis[s * kBasisStride + 1 + k];
+    }
+    mls_batches_.push_back(batch);
+  }
 }
 
 void ShellPatch::surface_stencil(const Vec2& uv, BasisChainWork& work, SurfaceStencil& out) const {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 
 namespace shellfrac::shell {
@@ -44,7 +45,15 @@ InPlaneTensor type4_damaged_stress(const Type4Data& d, const InPlaneTensor& tau,
 Type4Status type4_point_force(const Type4Data& d, size_t q, const Type4Basis& b, bool membrane, double r33,
                               Vec3* force) {
   const size_t L = static_cast<size_t>(d.layers);
-  const Vec3* pts[kType4MaxSupport];
+  // MLS supports can hold more control points than a NURBS one (up to the chain's largest factor):
+  // those take their pointer list from the heap.
+  const Vec3* fixed[kType4MaxSupport];
+  std::vector<const Vec3*> large;
+  const Vec3** pts = fixed;
+  if (b.n > kType4MaxSupport) {
+    large.resize(static_cast<size_t>(b.n));
+    pts = large.data();
+  }
   for (int s = 0; s < b.n; ++s) pts[s] = &d.x[static_cast<size_t>(b.index[s])];
   const SurfaceJet jet = surface_jet(pts, b.basis + 1, b.n, 6);
   NormalJet nj;

@@ -53,6 +53,48 @@ TEST(ShellCracks, CrackedForceIsMinusEnergyGradient) {
   EXPECT_LE(sum.norm(), 1e-11 * max_norm(f) * static_cast<double>(f.size()));
 }
 
+// The MLS points run the batched kernel in lanes grouped by support size (padded with zero basis
+// entries): every control point force and every layer point's damage equal the scalar kernel's to
+// round-off (1e-12 of the largest force), and so do the forces with only the MLS points scalar
+// (ForceKernel::BatchedScalarMls), on a fracturing patch with a forked crack, so that supports of
+// several sizes share batches.
+TEST(ShellCracks, BatchedMlsForcesEqualTheScalarKernel) {
+  ShellMaterial m = material(1e6, 0.3, 0.01);
+  m.fracture.enabled = true;
+  m.fracture.failure_stress = 2e4;
+  ShellPatch batched(nurbs::flat_patch(1.0, 1.0, 10, 10), m);
+  batched.set_brittleness(1.0);
+  Crack crack;
+  crack.add(Vec2(0.0, 0.5), Vec2(0.43, 0.52));
+  crack.add(Vec2(0.43, 0.52), Vec2(0.81, 0.77));
+  crack.add(Vec2(0.43, 0.52), Vec2(0.74, 0.21));
+  const CrackUpdate u = batched.update_crack(crack.index, crack.commit(), MlsSettings{});
+  ASSERT_GT(u.mls_points, 100u);
+  // Nearly all MLS points go to the lanes (linear bases, if any, stay scalar).
+  EXPECT_GE(batched.num_batched_mls_points(), u.mls_points - u.census.membrane_only);
+  EXPECT_GT(batched.num_batched_mls_points(), 100u);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> r(-0.02, 0.02);
+  for (auto& x : batched.x) x = 1.05 * x + Vec3(r(rng), r(rng), r(rng));
+  ShellPatch scalar = batched, scalar_mls = batched;
+  scalar.set_force_kernel(ForceKernel::Scalar);
+  scalar_mls.set_force_kernel(ForceKernel::BatchedScalarMls);
+  ASSERT_FALSE(batched.compute_forces().failed);
+  ASSERT_FALSE(scalar.compute_forces().failed);
+  ASSERT_FALSE(scalar_mls.compute_forces().failed);
+  double worst = 0, worst_mls = 0;
+  for (size_t i = 0; i < batched.force.size(); ++i) {
+    worst = std::max(worst, (batched.force[i] - scalar.force[i]).norm());
+    worst_mls = std::max(worst_mls, (batched.force[i] - scalar_mls.force[i]).norm());
+  }
+  EXPECT_LE(worst, 1e-12 * max_norm(scalar.force));
+  EXPECT_LE(worst_mls, 1e-12 * max_norm(scalar.force));
+  EXPECT_GT(worst_mls, 0.0);  // the MLS points did run another kernel
+  EXPECT_GT(batched.max_damage(), 0.0);  // the damage law is exercised
+  for (size_t k = 0; k < batched.damage_values().size(); ++k)
+    EXPECT_NEAR(batched.damage_values()[k], scalar.damage_values()[k], 1e-12);
+}
+
 TEST(ShellCracks, MovingOneFragmentRigidlyCostsNoForce) {
   // A crack right across the patch: translating and rotating the upper fragment's control points is a
   // rigid motion of that fragment, so no point may feel a force. Without the crack it tears the sheet.

@@ -350,6 +350,27 @@ TEST(Type4Batch, EqualsScalarOnPlasticStates) {
   EXPECT_LT(yielded, static_cast<int>(p.alpha.size()));          // and some stayed elastic
 }
 
+// MLS supports can be larger than any NURBS support (kType4MaxSupport): the scalar kernel takes a support
+// of 150 entries, the point's own 9 followed by 141 entries with zero basis values, and gives exactly the
+// forces of the 9-entry support on those 9 and zero on the rest (it wrote past a fixed array of 64 before).
+TEST(Type4Scalar, SupportsLargerThanTheLaneLimitGiveTheSameForces) {
+  PointSet p(nurbs::flat_patch(1.0, 1.0, 4, 4), 16);
+  deform(p, kStretched, 17);
+  const Type4Data d = p.data(elastic());
+  const int n = p.n, big = 150;
+  ASSERT_GT(big, kType4MaxSupport);
+  std::vector<int> support(p.support[0]);
+  std::vector<double> basis(p.basis[0]);
+  support.resize(static_cast<size_t>(big), support[0]);
+  basis.resize(static_cast<size_t>(6 * big), 0.0);
+  std::vector<Vec3> small(static_cast<size_t>(n), Vec3::Zero()), large(static_cast<size_t>(big), Vec3::Zero());
+  ASSERT_EQ(type4_point_force(d, 0, {n, p.support[0].data(), p.basis[0].data()}, false, 0.97, small.data()), kType4Ok);
+  ASSERT_EQ(type4_point_force(d, 0, {big, support.data(), basis.data()}, false, 0.97, large.data()), kType4Ok);
+  EXPECT_GT(max_norm(small), 0.0);
+  for (int s = 0; s < big; ++s)
+    EXPECT_EQ(large[static_cast<size_t>(s)], s < n ? small[static_cast<size_t>(s)] : Vec3::Zero()) << s;
+}
+
 TEST(Type4Batch, InactiveLanesKeepTheirState) {
   PointSet p(nurbs::flat_patch(1.0, 1.0, 4, 4), 12);
   deform(p, kStretched, 13);
