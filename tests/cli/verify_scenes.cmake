@@ -13,5 +13,5 @@ foreach(_scene ${_shipped_scenes})
   get_filename_component(_name "${_scene}" NAME_WE)
   add_test(NAME verify_coupling.${_name}
            COMMAND shellfrac verify coupling "${_scene}" --out "${CMAKE_CURRENT_BINARY_DIR}/verify_${_name}" --threads 2)
-  set_tests_properties(verify_coupling.${_name} PROPERTIES TIMEOUT 900 LABELS "cli;verify_scenes")
+  set_tests_properties(verify_coupling.${_name} PROPERTIES TIMEOUT 900 LABELS "cli;verify_scenes" COST 30)  # whole runs, up to ~40 s
 endforeach()
