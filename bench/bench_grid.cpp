@@ -1,7 +1,8 @@
 // The sparse grid's per-step rebuild (mpm/sparse_grid.cpp): the particles of a 1 m^2 sheet of 100 x 100
 // cells (control points and shear particles, as in scenes/benchmark-sheet.json) moving a little every
 // step, rebuilt with a fresh block layout every step (layout reuse 0) against the default, which keeps the
-// layout while it still holds every particle's stencil.
+// layout while it still holds every particle's stencil, and the bins and entry order while no particle
+// changes block.
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
@@ -45,6 +46,13 @@ void BM_GridRebuild(benchmark::State& state) {
     grid.rebuild(sets);
   }
   state.SetItemsProcessed(static_cast<int64_t>(x.size()) * state.iterations());
+  // Which path the rebuilds took (SparseGrid::RebuildCounts): bins kept, particles binned again on the
+  // kept layout, or a new layout.
+  const SparseGrid::RebuildCounts& c = grid.rebuild_counts();
+  const double all = static_cast<double>(c.kept_bins + c.rebinned + c.kept_layout_rebinned_afresh + c.fresh_layouts);
+  state.counters["kept_bins"] = static_cast<double>(c.kept_bins) / all;
+  state.counters["rebinned"] = static_cast<double>(c.rebinned) / all;
+  state.counters["fresh"] = static_cast<double>(c.fresh_layouts) / all;
 }
 BENCHMARK(BM_GridRebuild)
     ->ArgsProduct({{0, SparseGrid::kDefaultLayoutReuse}, {1, 2}})

@@ -99,107 +99,213 @@ void SparseGrid::build_layout(const std::vector<uint64_t>& particle_keys) {
   });
 }
 
+bool SparseGrid::base_key(const Vec3& x, uint64_t& key) const {
+  constexpr double kLimit = 4.0 * static_cast<double>(kKeyOffset - 2);  // nodes per axis half-range
+  if (!x.allFinite()) return false;
+  int base[3];
+  for (int d = 0; d < 3; ++d) {
+    const double b = std::floor(x[d] * inv_dx_ - 0.5);
+    if (std::abs(b) > kLimit) return false;
+    base[d] = static_cast<int>(b);
+  }
+  key = pack(floor_div4(base[0]), floor_div4(base[1]), floor_div4(base[2]));
+  return true;
+}
+
+bool SparseGrid::well_inside_range(const Vec3& x) const {
+  constexpr double kLimit = 4.0 * static_cast<double>(kKeyOffset - 4);  // a margin inside base_key's limit
+  return x.allFinite() && std::abs(x.x() * inv_dx_) < kLimit && std::abs(x.y() * inv_dx_) < kLimit &&
+         std::abs(x.z() * inv_dx_) < kLimit;
+}
+
+bool SparseGrid::holds_stencils_of(int32_t block) const {
+  return block >= 0 && std::none_of(forward_neighbours_[static_cast<size_t>(block)].begin(),
+                                    forward_neighbours_[static_cast<size_t>(block)].end(), [](int32_t n) { return n < 0; });
+}
+
 void SparseGrid::rebuild(const std::vector<ParticleSet>& sets) {
-  // 1. Block of every particle's base node (parallel; the first bad particle is reported, in order).
   std::vector<size_t> first(sets.size() + 1, 0);
   for (size_t si = 0; si < sets.size(); ++si) first[si + 1] = first[si] + sets[si].count;
+  // Particles move a small part of a cell per step, so the block layout of the step before nearly always
+  // still holds every particle's block and its forward neighbours (stencils reach base + 2). It is then
+  // kept, for at most layout_reuse_ steps; after that it is built afresh, which drops blocks no particle
+  // reaches any more. Kept blocks that no stencil reaches get no mass, so the transfers and every sum over
+  // blocks give the same bits as a fresh layout.
+  const bool keep = reused_layouts_ < layout_reuse_ && !active_keys_.empty();
+  if (keep && first == set_first_) {
+    if (refresh_kept_layout(sets))
+      ++reused_layouts_;
+    else
+      rebuild_afresh(sets, first, false);  // a particle left the layout (or cannot be placed: reported there)
+  } else {
+    rebuild_afresh(sets, first, keep);
+  }
+  zero_nodes();
+}
+
+bool SparseGrid::refresh_kept_layout(const std::vector<ParticleSet>& sets) {
+  // One pass in entry order, block by block in parallel: a particle still in the block it is binned in gets
+  // its new stencil in place; one that left it is marked. Most steps nobody leaves, and the bins, the
+  // entry order and the colours stay as they are.
+  const size_t total = entries_.size();
+  const size_t num_blocks = active_keys_.size();
+  moved_.assign(total, 0);
+  std::atomic<bool> placeable{true};
+  std::atomic<size_t> movers{0};
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, num_blocks, 8), [&](const tbb::blocked_range<size_t>& r) {
+    size_t left = 0;
+    for (size_t b = r.begin(); b != r.end(); ++b)
+      for (uint32_t e = bin_offsets_[b]; e < bin_offsets_[b + 1]; ++e) {
+        const Vec3& x = sets[entries_[e].set].position[entries_[e].index];
+        if (!well_inside_range(x)) {
+          placeable = false;  // the fresh path reports it, or places it if it is just inside the range
+          return;
+        }
+        const StencilWeights sw = stencil_weights(x, inv_dx_);  // the key comes with the weights
+        if (pack(floor_div4(sw.ax[0].base), floor_div4(sw.ax[1].base), floor_div4(sw.ax[2].base)) == active_keys_[b]) {
+          fill_stencil(static_cast<uint32_t>(b), sw, x, stencil_[e]);
+        } else {
+          moved_[e] = 1;
+          ++left;
+        }
+      }
+    movers += left;
+  });
+  if (!placeable) return false;
+  if (movers == 0) {
+    ++counts_.kept_bins;
+    return true;
+  }
+
+  // Some particles changed block: they need a block of the layout with all its forward neighbours, or the
+  // layout is built afresh. Then the particles are binned again in the order a fresh layout bins them
+  // (block, then set and index), the others' stencils are carried over and the movers' filled.
+  std::vector<uint32_t> block_of_particle(total);
+  for (size_t b = 0; b < num_blocks; ++b)
+    for (uint32_t e = bin_offsets_[b]; e < bin_offsets_[b + 1]; ++e) {
+      const size_t flat = set_first_[entries_[e].set] + entries_[e].index;
+      int32_t to = static_cast<int32_t>(b);
+      if (moved_[e]) {
+        uint64_t key = 0;
+        base_key(sets[entries_[e].set].position[entries_[e].index], key);
+        to = find_block(key);
+        if (!holds_stencils_of(to)) return false;
+      }
+      block_of_particle[flat] = static_cast<uint32_t>(to);
+    }
+  ++counts_.rebinned;
+  previous_entry_of_.swap(entry_of_);
+  previous_stencil_.swap(stencil_);
+  bin_particles(block_of_particle);
+  stencil_.resize(total);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, num_blocks, 8), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t b = r.begin(); b != r.end(); ++b)
+      for (uint32_t e = bin_offsets_[b]; e < bin_offsets_[b + 1]; ++e) {
+        const Entry& en = entries_[e];
+        const uint32_t before = previous_entry_of_[set_first_[en.set] + en.index];
+        if (moved_[before])
+          fill_stencil(static_cast<uint32_t>(b), sets[en.set].position[en.index], stencil_[e]);
+        else
+          stencil_[e] = previous_stencil_[before];
+      }
+  });
+  return true;
+}
+
+void SparseGrid::rebuild_afresh(const std::vector<ParticleSet>& sets, const std::vector<size_t>& first, bool keep) {
+  // 1. Block of every particle's base node (parallel; the first bad particle is reported, in order).
   const size_t total = first.back();
   std::vector<uint64_t> keys(total);
   std::vector<unsigned char> bad(total, 0);
-  entries_.resize(total);
   for (uint32_t si = 0; si < sets.size(); ++si) {
     const ParticleSet& s = sets[si];
     tbb::parallel_for(tbb::blocked_range<size_t>(0, s.count, 1024), [&](const tbb::blocked_range<size_t>& r) {
-      constexpr double kLimit = 4.0 * static_cast<double>(kKeyOffset - 2);  // nodes per axis half-range
       for (size_t p = r.begin(); p != r.end(); ++p) {
         const size_t e = first[si] + p;
-        entries_[e] = {si, static_cast<uint32_t>(p)};
-        const Vec3& x = s.position[p];
-        if (!x.allFinite()) {
-          bad[e] = 1;
-          continue;
-        }
-        int base[3];
-        for (int d = 0; d < 3; ++d) {
-          const double b = std::floor(x[d] * inv_dx_ - 0.5);
-          if (std::abs(b) > kLimit) bad[e] = 2;
-          base[d] = bad[e] ? 0 : static_cast<int>(b);
-        }
-        keys[e] = bad[e] ? 0 : pack(floor_div4(base[0]), floor_div4(base[1]), floor_div4(base[2]));
+        if (!base_key(s.position[p], keys[e])) bad[e] = s.position[p].allFinite() ? 2 : 1;
       }
     });
   }
   for (size_t e = 0; e < total; ++e)
-    if (bad[e])
-      throw GridError(bad[e] == 1 ? "non-finite particle position" : "particle position out of the grid's range",
-                      entries_[e].set, entries_[e].index);
+    if (bad[e]) {
+      const size_t si = static_cast<size_t>(std::upper_bound(first.begin(), first.end(), e) - first.begin()) - 1;
+      throw GridError(bad[e] == 1 ? "non-finite particle position" : "particle position out of the grid's range", si,
+                      e - first[si]);
+    }
 
-  // 2. Active blocks: particle blocks and their forward neighbours (stencils reach base + 2), as a
-  //    sorted key list: the block order is deterministic and spatially coherent, and a binary search
-  //    replaces a hash map. Particles move less than a cell per step, so the layout of the step before
-  //    usually still holds every particle's block and its forward neighbours: then it is kept, and the
-  //    sort of the particle keys is skipped. Blocks it holds that no particle reaches any more get no mass,
-  //    so the transfers and every sum over blocks give the same bits as a fresh layout. After
-  //    layout_reuse_ steps the layout is built afresh, which drops them.
-  std::vector<uint32_t> block_of_entry(total);
-  bool keep = reused_layouts_ < layout_reuse_ && !active_keys_.empty();
+  // 2. Active blocks: particle blocks and their forward neighbours, as a sorted key list: the block order
+  //    is deterministic and spatially coherent, and a binary search replaces a hash map. The layout of the
+  //    step before is kept if it holds every particle (the set sizes changed, or a particle left it on a
+  //    kept layout, and `keep` still allows it).
+  std::vector<uint32_t> block_of_particle(total);
   if (keep) {
     std::atomic<bool> fits{true};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 4096), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t i = r.begin(); i != r.end() && fits.load(std::memory_order_relaxed); ++i) {
         const int32_t b = find_block(keys[i]);
-        if (b < 0 || std::any_of(forward_neighbours_[static_cast<size_t>(b)].begin(),
-                                 forward_neighbours_[static_cast<size_t>(b)].end(), [](int32_t n) { return n < 0; })) {
+        if (!holds_stencils_of(b)) {
           fits = false;
           return;
         }
-        block_of_entry[i] = static_cast<uint32_t>(b);
+        block_of_particle[i] = static_cast<uint32_t>(b);
       }
     });
     keep = fits;
   }
   if (keep) {
     ++reused_layouts_;
+    ++counts_.kept_layout_rebinned_afresh;
   } else {
     reused_layouts_ = 0;
+    ++counts_.fresh_layouts;
     build_layout(keys);
-    tbb::parallel_for(size_t{0}, total, [&](size_t i) { block_of_entry[i] = static_cast<uint32_t>(find_block(keys[i])); });
+    tbb::parallel_for(size_t{0}, total, [&](size_t i) { block_of_particle[i] = static_cast<uint32_t>(find_block(keys[i])); });
   }
-  const size_t num_blocks = active_keys_.size();
 
-  // 3. Bin particles per block (stable counting sort keeps set/particle order inside a block).
-  bin_offsets_.assign(num_blocks + 1, 0);
-  for (size_t i = 0; i < total; ++i) ++bin_offsets_[block_of_entry[i] + 1];
-  for (size_t b = 0; b < num_blocks; ++b) bin_offsets_[b + 1] += bin_offsets_[b];
-  std::vector<Entry> sorted(total);
-  std::vector<uint32_t> cursor(bin_offsets_.begin(), bin_offsets_.end() - 1);
-  for (size_t i = 0; i < total; ++i) sorted[cursor[block_of_entry[i]]++] = entries_[i];
-  entries_.swap(sorted);
-
-  // 3b. Per-particle cache of weights and stencil nodes, in entry order (the transfers read it in that
-  //     order), and the inverse map from (set, particle) to entry.
+  // 3. Bins, then the per-particle cache of weights and stencil nodes in entry order (the transfers read
+  //    it in that order).
   set_first_.assign(first.begin(), first.end());
+  bin_particles(block_of_particle);
   stencil_.resize(total);
-  entry_of_.resize(total);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, num_blocks, 8), [&](const tbb::blocked_range<size_t>& r) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, active_keys_.size(), 8), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t b = r.begin(); b != r.end(); ++b)
       for (uint32_t e = bin_offsets_[b]; e < bin_offsets_[b + 1]; ++e) {
         const Entry& en = entries_[e];
         fill_stencil(static_cast<uint32_t>(b), sets[en.set].position[en.index], stencil_[e]);
-        entry_of_[first[en.set] + en.index] = e;
       }
   });
+}
 
-  // 4. Parity colours of the blocks that hold particles.
+void SparseGrid::bin_particles(const std::vector<uint32_t>& block_of_particle) {
+  // Stable counting sort of the particles (flat set/index order) by block, the inverse map from
+  // (set, particle) to entry, and the parity colours of the blocks that hold particles.
+  const size_t total = block_of_particle.size();
+  const size_t num_blocks = active_keys_.size();
+  bin_offsets_.assign(num_blocks + 1, 0);
+  for (size_t i = 0; i < total; ++i) ++bin_offsets_[block_of_particle[i] + 1];
+  for (size_t b = 0; b < num_blocks; ++b) bin_offsets_[b + 1] += bin_offsets_[b];
+  entries_.resize(total);
+  entry_of_.resize(total);
+  std::vector<uint32_t> cursor(bin_offsets_.begin(), bin_offsets_.end() - 1);
+  size_t set = 0;
+  for (size_t i = 0; i < total; ++i) {
+    while (i >= set_first_[set + 1]) ++set;
+    const uint32_t e = cursor[block_of_particle[i]]++;
+    entries_[e] = {static_cast<uint32_t>(set), static_cast<uint32_t>(i - set_first_[set])};
+    entry_of_[i] = e;
+  }
   colour_blocks_.assign(8, {});
   for (uint32_t b = 0; b < num_blocks; ++b) {
     if (bin_offsets_[b + 1] == bin_offsets_[b]) continue;
     const BlockCoord& c = block_coords_[b];
     colour_blocks_[static_cast<size_t>((c.x() & 1) | ((c.y() & 1) << 1) | ((c.z() & 1) << 2))].push_back(b);
   }
+}
 
-  // 5. Zeroed node storage (parallel: it is the largest memory traffic of the rebuild), no phantoms yet.
-  const size_t n = num_blocks * kBlockNodes;
+void SparseGrid::zero_nodes() {
+  // Mass, momentum and force are sums the transfers add to; velocities are not zeroed, because
+  // update_velocities() writes every node's. Parallel: this is the largest memory traffic of the rebuild.
+  const size_t n = active_keys_.size() * kBlockNodes;
   grid_nodes_ = n;
   copy_parent_.clear();
   copy_mass_position_.clear();
@@ -215,7 +321,6 @@ void SparseGrid::rebuild(const std::vector<ParticleSet>& sets) {
     std::fill(mass_.begin() + from, mass_.begin() + to, 0.0);
     std::fill(momentum_.begin() + from, momentum_.begin() + to, Vec3::Zero());
     std::fill(force_.begin() + from, force_.begin() + to, Vec3::Zero());
-    std::fill(velocity_.begin() + from, velocity_.begin() + to, Vec3::Zero());
   });
 }
 
@@ -296,10 +401,14 @@ int32_t SparseGrid::find_block(uint64_t key) const {
 }
 
 void SparseGrid::fill_stencil(uint32_t block, const Vec3& x, ParticleStencil& st) const {
+  fill_stencil(block, stencil_weights(x, inv_dx_), x, st);
+}
+
+void SparseGrid::fill_stencil(uint32_t block, const StencilWeights& sw, const Vec3& x, ParticleStencil& st) const {
   const BlockCoord& c = block_coords_[block];
   int local[3];  // base node in its block
   for (int d = 0; d < 3; ++d) {
-    const AxisWeights a = quadratic_weights(x[d], inv_dx_);
+    const AxisWeights& a = sw.ax[d];
     for (int i = 0; i < 3; ++i) {
       st.w[d][i] = a.w[i];
       st.dw[d][i] = a.dw[i];
@@ -531,6 +640,117 @@ struct ResidualSum {
   }
 };
 
+// What one particle's gather reads besides its stencil.
+struct GatherInputs {
+  const Vec3* velocity;  // after the grid update
+  const Vec3* momentum;  // p2g momentum, with the mass: the node's velocity before the update, for FLIP
+  const double* mass;
+  double dx, inv_d;      // grid spacing, APIC D^-1 (Eq. 2.24)
+  double dt;             // the step the particles are advected over
+  bool varying;          // FLIP shares differ: gather the dissipated residual into `sum`
+};
+
+// Sums over one particle's stencil, built row by row (x), then over y, then z:
+//   v = sum w v_i; M_c = sum w v_i (offset along axis c: i, j or k) for the APIC affine velocity;
+//   G_c = sum (d w / d x_c) v_i for the velocity gradient; v_old = sum w v_i^old for FLIP.
+struct StencilSums {
+  Vec3 v = Vec3::Zero(), Mx = Vec3::Zero(), My = Vec3::Zero(), Mz = Vec3::Zero();
+  Vec3 Gx = Vec3::Zero(), Gy = Vec3::Zero(), Gz = Vec3::Zero(), v_old = Vec3::Zero();
+};
+
+template <class Stencil, class Flip, class Affine, class Grad>
+StencilSums sum_stencil(const Stencil& st, const uint32_t* nodes, const GatherInputs& g, Flip flip, Affine affine,
+                        Grad grad) {
+  double wx[3], wy[3], wz[3], dwx[3], dwy[3], dwz[3];
+  load_weights(st.w, st.dw, wx, wy, wz, dwx, dwy, dwz);
+  const Vec3* const velocity = g.velocity;
+  const Vec3* const momentum = g.momentum;
+  const double* const mass = g.mass;
+  StencilSums o;
+  for (int k = 0; k < 3; ++k) {
+    Vec3 Pk = Vec3::Zero(), Qk = Vec3::Zero(), Rk = Vec3::Zero(), Bk = Vec3::Zero(), Ck = Vec3::Zero(),
+         Ok = Vec3::Zero();
+    for (int j = 0; j < 3; ++j) {
+      const uint32_t* row = nodes + 3 * j + 9 * k;
+      const Vec3 &v0 = velocity[row[0]], &v1 = velocity[row[1]], &v2 = velocity[row[2]];
+      const Vec3 t1 = wx[1] * v1, t2 = wx[2] * v2;
+      const Vec3 P = wx[0] * v0 + t1 + t2;  // sum_i wx_i v_i
+      const double wyj = wy[j];
+      Pk += wyj * P;
+      if (affine) {
+        Qk += wyj * (t1 + 2.0 * t2);  // sum_i i wx_i v_i
+        Rk += (static_cast<double>(j) * wyj) * P;
+      }
+      if (grad) {
+        Bk += wyj * (dwx[0] * v0 + dwx[1] * v1 + dwx[2] * v2);
+        Ck += dwy[j] * P;
+      }
+      if (flip) {
+        // The node's velocity before this step's forces, colliders and contact: its p2g momentum / mass.
+        Vec3 O = Vec3::Zero();
+        for (int i = 0; i < 3; ++i)
+          if (mass[row[i]] > 0) O += (wx[i] / mass[row[i]]) * momentum[row[i]];
+        Ok += wyj * O;
+      }
+    }
+    const double wzk = wz[k];
+    o.v += wzk * Pk;
+    if (affine) {
+      o.Mx += wzk * Qk;
+      o.My += wzk * Rk;
+      o.Mz += (static_cast<double>(k) * wzk) * Pk;
+    }
+    if (grad) {
+      o.Gx += wzk * Bk;
+      o.Gy += wzk * Ck;
+      o.Gz += dwz[k] * Pk;
+    }
+    if (flip) o.v_old += wzk * Ok;
+  }
+  return o;
+}
+
+// One particle's gather from its cached stencil `st` and node list: velocity (PIC plus its FLIP share of
+// the residual), affine velocity, velocity gradient; compiled per combination of the optional outputs.
+template <class Stencil, class Flip, class Affine, class Grad>
+void gather_particle(const Stencil& st, const uint32_t* nodes, const GatherInputs& g, const ParticleSet& s, uint32_t p,
+                     double share, ResidualSum& sum, Flip flip, Affine affine, Grad grad) {
+  const StencilSums o = sum_stencil(st, nodes, g, flip, affine, grad);
+  const Vec3& v = o.v;
+  if (flip) {
+    const Vec3 residual = s.velocity[p] - o.v_old;  // delta_p: the particle's velocity the grid did not carry
+    if (g.varying && s.mass[p] > 0) {
+      const double w = s.mass[p] * (1 - share);
+      sum.residual += w * residual;
+      sum.weight += w;
+      sum.first += w * s.position[p];
+      sum.second += w * s.position[p] * s.position[p].transpose();
+      sum.angular += (s.mass[p] * share) * (s.position[p] + g.dt * v).cross(residual);
+    }
+    s.velocity[p] = v + share * residual;
+    if (s.flip_part) s.flip_part[p] = share * residual;
+  } else {
+    if (s.flip_part) s.flip_part[p].setZero();
+    s.velocity[p] = v;
+  }
+  if (affine) {
+    // C = D^-1 sum w v_i (x_i - x_p)^T with x_i - x_p = d0 + dx (i, j, k) (thesis Eq. 2.25).
+    Mat3 C;
+    C.col(0) = g.inv_d * (st.d0[0] * v + g.dx * o.Mx);
+    C.col(1) = g.inv_d * (st.d0[1] * v + g.dx * o.My);
+    C.col(2) = g.inv_d * (st.d0[2] * v + g.dx * o.Mz);
+    if (s.rigid_affine) C = (0.5 * (C - C.transpose())).eval();
+    s.affine[p] = C;
+  }
+  if (grad) {
+    Mat3 G;
+    G.col(0) = o.Gx;
+    G.col(1) = o.Gy;
+    G.col(2) = o.Gz;
+    s.velocity_gradient[p] = G;
+  }
+}
+
 }  // namespace
 
 void SparseGrid::transfer_to_particles(const std::vector<ParticleSet>& sets, double dt) const {
@@ -542,94 +762,7 @@ void SparseGrid::transfer_to_particles(const std::vector<ParticleSet>& sets, dou
   // the dissipating particles below.
   const bool varying = !sets.empty() && shares_vary(sets);
   std::vector<ResidualSum> block_sums(varying ? block_coords_.size() : 0);
-  const Vec3* const velocity = velocity_.data();
-  const Vec3* const momentum = momentum_.data();
-  const double* const mass = mass_.data();
-  // One particle's gather, compiled per combination of the optional outputs.
-  auto gather = [&](const ParticleSet& s, uint32_t p, size_t e, double share, ResidualSum& sum, auto flip, auto affine,
-                    auto grad) {
-    const ParticleStencil& st = stencil_[e];
-    double wx[3], wy[3], wz[3], dwx[3], dwy[3], dwz[3];
-    load_weights(st.w, st.dw, wx, wy, wz, dwx, dwy, dwz);
-    const uint32_t* nodes = entry_nodes(e);
-    // Sums over the stencil, built row by row (x), then over y, then z:
-    //   v = sum w v_i; M_c = sum w v_i (offset along axis c: i, j or k) for the APIC affine velocity;
-    //   G_c = sum (d w / d x_c) v_i for the velocity gradient; v_old = sum w v_i^old for FLIP.
-    Vec3 v = Vec3::Zero(), Mx = Vec3::Zero(), My = Vec3::Zero(), Mz = Vec3::Zero();
-    Vec3 Gx = Vec3::Zero(), Gy = Vec3::Zero(), Gz = Vec3::Zero(), v_old = Vec3::Zero();
-    for (int k = 0; k < 3; ++k) {
-      Vec3 Pk = Vec3::Zero(), Qk = Vec3::Zero(), Rk = Vec3::Zero(), Bk = Vec3::Zero(), Ck = Vec3::Zero(),
-           Ok = Vec3::Zero();
-      for (int j = 0; j < 3; ++j) {
-        const uint32_t* row = nodes + 3 * j + 9 * k;
-        const Vec3 &v0 = velocity[row[0]], &v1 = velocity[row[1]], &v2 = velocity[row[2]];
-        const Vec3 t1 = wx[1] * v1, t2 = wx[2] * v2;
-        const Vec3 P = wx[0] * v0 + t1 + t2;  // sum_i wx_i v_i
-        const double wyj = wy[j];
-        Pk += wyj * P;
-        if (affine) {
-          Qk += wyj * (t1 + 2.0 * t2);  // sum_i i wx_i v_i
-          Rk += (static_cast<double>(j) * wyj) * P;
-        }
-        if (grad) {
-          Bk += wyj * (dwx[0] * v0 + dwx[1] * v1 + dwx[2] * v2);
-          Ck += dwy[j] * P;
-        }
-        if (flip) {
-          // The node's velocity before this step's forces, colliders and contact: its p2g momentum / mass.
-          Vec3 O = Vec3::Zero();
-          for (int i = 0; i < 3; ++i)
-            if (mass[row[i]] > 0) O += (wx[i] / mass[row[i]]) * momentum[row[i]];
-          Ok += wyj * O;
-        }
-      }
-      const double wzk = wz[k];
-      v += wzk * Pk;
-      if (affine) {
-        Mx += wzk * Qk;
-        My += wzk * Rk;
-        Mz += (static_cast<double>(k) * wzk) * Pk;
-      }
-      if (grad) {
-        Gx += wzk * Bk;
-        Gy += wzk * Ck;
-        Gz += dwz[k] * Pk;
-      }
-      if (flip) v_old += wzk * Ok;
-    }
-    if (flip) {
-      const Vec3 residual = s.velocity[p] - v_old;  // delta_p: the particle's velocity the grid did not carry
-      if (varying && s.mass[p] > 0) {
-        const double w = s.mass[p] * (1 - share);
-        sum.residual += w * residual;
-        sum.weight += w;
-        sum.first += w * s.position[p];
-        sum.second += w * s.position[p] * s.position[p].transpose();
-        sum.angular += (s.mass[p] * share) * (s.position[p] + dt * v).cross(residual);
-      }
-      s.velocity[p] = v + share * residual;
-      if (s.flip_part) s.flip_part[p] = share * residual;
-    } else {
-      if (s.flip_part) s.flip_part[p].setZero();
-      s.velocity[p] = v;
-    }
-    if (affine) {
-      // C = D^-1 sum w v_i (x_i - x_p)^T with x_i - x_p = d0 + dx (i, j, k) (thesis Eq. 2.25).
-      Mat3 C;
-      C.col(0) = inv_d * (st.d0[0] * v + dx_ * Mx);
-      C.col(1) = inv_d * (st.d0[1] * v + dx_ * My);
-      C.col(2) = inv_d * (st.d0[2] * v + dx_ * Mz);
-      if (s.rigid_affine) C = (0.5 * (C - C.transpose())).eval();
-      s.affine[p] = C;
-    }
-    if (grad) {
-      Mat3 G;
-      G.col(0) = Gx;
-      G.col(1) = Gy;
-      G.col(2) = Gz;
-      s.velocity_gradient[p] = G;
-    }
-  };
+  const GatherInputs inputs{velocity_.data(), momentum_.data(), mass_.data(), dx_, inv_d, dt, varying};
   // Gather: each particle reads its stencil; blocks are independent, so any order gives the same result.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, block_coords_.size(), 2), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t b = r.begin(); b != r.end(); ++b) {
@@ -641,7 +774,7 @@ void SparseGrid::transfer_to_particles(const std::vector<ParticleSet>& sets, dou
         with_flag(share > 0 || varying, [&](auto flip) {
           with_flag(s.affine != nullptr, [&](auto affine) {
             with_flag(s.velocity_gradient != nullptr,
-                      [&](auto grad) { gather(s, p, e, share, sum, flip, affine, grad); });
+                      [&](auto grad) { gather_particle(stencil_[e], entry_nodes(e), inputs, s, p, share, sum, flip, affine, grad); });
           });
         });
       }

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "mpm/bspline_weights.hpp"
 #include "mpm/particle_set.hpp"
 #include "mpm/phantom_nodes.hpp"
 
@@ -45,6 +46,13 @@ class SparseGrid {
   // one afresh (0: afresh every step, as before; the results are the same bits either way).
   static constexpr int kDefaultLayoutReuse = 16;
   void set_layout_reuse(int steps) { layout_reuse_ = steps; }
+  // How rebuild() went, counted over the grid's life: the kept layout with the bins of the step before
+  // (nobody changed block); the kept layout with the particles binned again (some did); the kept layout
+  // binned from scratch (the particle sets changed); a new layout.
+  struct RebuildCounts {
+    size_t kept_bins = 0, rebinned = 0, kept_layout_rebinned_afresh = 0, fresh_layouts = 0;
+  };
+  const RebuildCounts& rebuild_counts() const { return counts_; }
 
   // Particle to grid: mass and momentum (thesis Eq. 2.15, 2.16; APIC Eq. 2.23 when a set has affine).
   void transfer_mass_momentum(const std::vector<ParticleSet>& sets);
@@ -88,7 +96,8 @@ class SparseGrid {
   // node has the same stencil.
   uint64_t layout_version() const { return layout_version_; }
 
-  // Node storage, index = block * 64 + local, then the phantom copies. Nodes without mass have zero velocity.
+  // Node storage, index = block * 64 + local, then the phantom copies. Velocities are those of
+  // update_velocities() (zero on nodes without mass); rebuild() leaves them to it.
   size_t num_nodes() const { return mass_.size(); }
   size_t num_blocks() const { return block_coords_.size(); }
   Vec3 node_position(size_t node) const;
@@ -119,6 +128,7 @@ class SparseGrid {
   static uint64_t pack(int bx, int by, int bz);
   // Weights and grid nodes of a particle at x whose base node lies in block b.
   void fill_stencil(uint32_t block, const Vec3& x, ParticleStencil& st) const;
+  void fill_stencil(uint32_t block, const StencilWeights& sw, const Vec3& x, ParticleStencil& st) const;
   // Node list the transfers use for entry e: the cached grid nodes, or the phantom row naming copies.
   const uint32_t* entry_nodes(size_t e) const {
     const int32_t row = entry_phantom_row_.empty() ? -1 : entry_phantom_row_[e];
@@ -135,8 +145,23 @@ class SparseGrid {
   // Sorts the particles' block keys into the active blocks (with their forward neighbours), the block
   // coordinates and neighbour table; a new layout version when the keys changed.
   void build_layout(const std::vector<uint64_t>& particle_keys);
+  // The key of the block holding the base node of a particle at x; false if x is not finite or out of range.
+  bool base_key(const Vec3& x, uint64_t& key) const;
+  // True if `block` is active and so are its forward neighbours, which a stencil based in it reaches.
+  // A cheaper test than base_key()'s for the common case: finite and well inside the key range.
+  bool well_inside_range(const Vec3& x) const;
+  bool holds_stencils_of(int32_t block) const;
+  // rebuild() on the kept layout with the same particle sets: new stencils in place, and the particles
+  // binned again only if some changed block. False if one left the layout or cannot be placed.
+  bool refresh_kept_layout(const std::vector<ParticleSet>& sets);
+  // rebuild() from the particle keys: on the kept layout if `keep` and it holds them, else a new layout.
+  void rebuild_afresh(const std::vector<ParticleSet>& sets, const std::vector<size_t>& first, bool keep);
+  // Entries, bins, the (set, particle) -> entry map and the block colours from each particle's block.
+  void bin_particles(const std::vector<uint32_t>& block_of_particle);
+  void zero_nodes();
   int layout_reuse_ = kDefaultLayoutReuse;
   int reused_layouts_ = 0;
+  RebuildCounts counts_;
 
   std::vector<uint64_t> active_keys_;  // sorted; block b has key active_keys_[b]
   std::vector<uint64_t> previous_keys_;  // active_keys_ of the rebuild before
@@ -148,6 +173,10 @@ class SparseGrid {
   std::vector<ParticleStencil> stencil_;  // per entry
   std::vector<size_t> set_first_;         // flat number of particle 0 of each set
   std::vector<uint32_t> entry_of_;        // flat (set, particle) number -> entry
+  // refresh_kept_layout(): per entry, whether its particle left its block; the map and stencils before.
+  std::vector<unsigned char> moved_;
+  std::vector<uint32_t> previous_entry_of_;
+  std::vector<ParticleStencil> previous_stencil_;
   std::vector<std::vector<uint32_t>> colour_blocks_;
   std::vector<double> mass_;
   std::vector<Vec3> momentum_, force_, velocity_;

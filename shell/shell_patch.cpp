@@ -262,6 +262,98 @@ void add_rotation(ShearParticles& s, const Vec3& change) {
   for (size_t c = 0; c < s.x.size(); ++c) s.v[c] += omega.cross(s.x[c] - centre);
 }
 
+// Points first .. first + 7 into the lanes of `batch`: those inside [q_begin, q_end) on NURBS bases (no
+// MLS slot) are active; the others repeat a valid point and are not evaluated. Fibre stretches start at 1.
+void assign_lanes(const ShellPatch& patch, const int32_t* point_slot, size_t first, size_t q_begin, size_t q_end,
+                  Type4Batch& batch, size_t (&lane_cell)[kType4Lanes]) {
+  const size_t fill = q_begin > first ? q_begin : first;
+  batch.active = 0;
+  for (int i = 0; i < kType4Lanes; ++i) {
+    const size_t q = first + static_cast<size_t>(i);
+    const bool inside = q >= q_begin && q < q_end && q < patch.num_inplane_points();
+    const size_t lane_q = inside ? q : fill;
+    if (inside && point_slot[q] < 0) batch.active |= 1u << i;
+    batch.q[i] = lane_q;
+    lane_cell[i] = patch.cell_of(lane_q);
+    batch.support[i] = patch.support(lane_cell[i]);
+    batch.r33[i] = 1.0;
+  }
+  batch.shared_support = true;
+  for (int i = 1; i < kType4Lanes; ++i) batch.shared_support &= batch.support[i] == batch.support[0];
+}
+
+// Each control point's force: its cell slots, then its MLS supports' slots, in a fixed order, so the sum
+// does not depend on the threads.
+template <class Slots>
+void gather_control_forces(const std::vector<int>& offsets, const std::vector<int>& entries,
+                           const std::vector<Vec3>& cell_force, const std::vector<int>& mls_offsets,
+                           const std::vector<std::pair<int, int>>& mls_entries, const Slots& slots,
+                           std::vector<Vec3>& force) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, force.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      Vec3 f = Vec3::Zero();
+      for (int k = offsets[i]; k < offsets[i + 1]; ++k) f += cell_force[static_cast<size_t>(entries[static_cast<size_t>(k)])];
+      for (int k = mls_offsets[i]; k < mls_offsets[i + 1]; ++k) {
+        const auto& e = mls_entries[static_cast<size_t>(k)];
+        f += slots[static_cast<size_t>(e.first)].force[static_cast<size_t>(e.second)];
+      }
+      force[i] = f;
+    }
+  });
+}
+
+// Adds one batch's lane forces to the cell slots, one run of lanes per cell: a whole batch in one cell by a
+// fixed pairwise sum (no serial chain), a partial run lane by lane in point order. Either order is fixed by
+// the data, so the sums do not depend on the threads. A failing lane marks its cell, whose forces are then
+// dropped. `cell_force` holds n force vectors per cell.
+void scatter_batch(const Type4BatchResult& result, unsigned active, const size_t (&lane_cell)[kType4Lanes], size_t n,
+                   Vec3* cell_force, unsigned char* cell_failed) {
+  for (int i = 0; i < kType4Lanes;) {
+    const size_t c = lane_cell[i];
+    int lanes[kType4Lanes], count = 0, end = i;
+    for (; end < kType4Lanes && lane_cell[end] == c; ++end) {
+      if (!((active >> end) & 1u) || cell_failed[c]) continue;
+      if (result.status[end] != kType4Ok)
+        cell_failed[c] = static_cast<unsigned char>(result.status[end]);
+      else
+        lanes[count++] = end;
+    }
+    i = end;
+    if (cell_failed[c] || !count) continue;
+    double* out = cell_force[c * n].data();
+    if (count == kType4Lanes) {
+      for (size_t s = 0; s < n; ++s)
+        for (int k = 0; k < 3; ++k) {
+          const double* f = result.force[s][k];
+          out[3 * s + static_cast<size_t>(k)] += ((f[0] + f[1]) + (f[2] + f[3])) + ((f[4] + f[5]) + (f[6] + f[7]));
+        }
+      continue;
+    }
+    for (size_t s = 0; s < n; ++s)
+      for (int k = 0; k < 3; ++k) {
+        double sum = out[3 * s + static_cast<size_t>(k)];
+        for (int j = 0; j < count; ++j) sum += result.force[s][k][lanes[j]];
+        out[3 * s + static_cast<size_t>(k)] = sum;
+      }
+  }
+}
+
+// What failed in cell c (status 2: a shear director, 3: a runaway stretch, else a collapsed element),
+// reported at its first point.
+ForceFailure cell_failure(size_t c, unsigned char status, size_t first_point, const Eigen::Vector2d& parameter) {
+  ForceFailure failure;
+  failure.failed = true;
+  failure.quadrature_point = first_point;
+  failure.parameter = parameter;
+  const std::string cell = " in cell " + std::to_string(c);
+  failure.reason = status == 2 ? "shear particle director crushed into the tangent plane" + cell
+                   : status == 3
+                       ? "shell element stretched to more than " + std::to_string(static_cast<int>(kRunawayAreaRatio)) +
+                             " times its area" + cell + " (a diverging step: lower time.cfl or dt)"
+                       : "degenerate or collapsed shell element (area ratio <= 0)" + cell;
+  return failure;
+}
+
 }  // namespace
 
 void ShellPatch::update_shear_particles(double dt) {
@@ -361,7 +453,7 @@ ForceFailure ShellPatch::compute_forces() {
   // A plastic patch's rest metric changes, so its lanes are gathered from ref_ (build_basis_lanes).
   const bool lane_ref = lane_volume && !material_.plasticity.enabled;
   const bool mls_lanes = batched && force_kernel_ != ForceKernel::BatchedScalarMls;
-  const size_t n = static_cast<size_t>(support_size_), nq = param_.size();
+  const size_t n = static_cast<size_t>(support_size_);
   std::vector<unsigned char> cell_failed(num_cells_, 0);
   for (MlsSupport& m : slots_)
     for (Vec3& f : m.force) f.setZero();
@@ -407,59 +499,17 @@ ForceFailure ShellPatch::compute_forces() {
       // Batches of the fixed grouping (8 consecutive points); one that straddles the range's ends runs
       // only the lanes inside it.
       for (size_t first = q_begin - q_begin % kType4Lanes; first < q_end; first += kType4Lanes) {
-        batch.active = 0;
         batch.basis = &basis_lanes_[first / kType4Lanes * n * 5 * kType4Lanes];
         const size_t L = static_cast<size_t>(num_layers());
         batch.ref_lanes = lane_ref ? &ref_lanes_[first / kType4Lanes * L * 4 * kType4Lanes] : nullptr;
         batch.volume_lanes = lane_volume ? &volume_lanes_[first / kType4Lanes * L * kType4Lanes] : nullptr;
-        const size_t fill = q_begin > first ? q_begin : first;  // a valid point for the inactive lanes
         size_t lane_cell[kType4Lanes];
-        for (int i = 0; i < kType4Lanes; ++i) {
-          const size_t q = first + static_cast<size_t>(i);
-          const bool inside = q >= q_begin && q < q_end && q < nq;
-          const size_t lane_q = inside ? q : fill;
-          if (inside && point_slot_[q] < 0) batch.active |= 1u << i;
-          batch.q[i] = lane_q;
-          lane_cell[i] = cell_of(lane_q);
-          batch.support[i] = support(lane_cell[i]);
-          batch.r33[i] = 1.0;
-        }
+        assign_lanes(*this, point_slot_.data(), first, q_begin, q_end, batch, lane_cell);
         if (!batch.active) continue;
-        batch.shared_support = true;
-        for (int i = 1; i < kType4Lanes; ++i) batch.shared_support &= batch.support[i] == batch.support[0];
         if (with_director)
           for (int i = 0; i < kType4Lanes; ++i) batch.r33[i] = r33_of(lane_cell[i]);
         type4_force_batch(data, batch, result);
-        // Scatter, one run of lanes per cell: a full batch by a fixed pairwise sum, a partial one lane by lane
-        // in point order. Either order is fixed by the data, so the sums do not depend on the threads.
-        for (int i = 0; i < kType4Lanes;) {
-          const size_t c = lane_cell[i];
-          int lanes[kType4Lanes], count = 0, end = i;
-          for (; end < kType4Lanes && lane_cell[end] == c; ++end) {
-            if (!((batch.active >> end) & 1u) || cell_failed[c]) continue;
-            if (result.status[end] != kType4Ok)
-              cell_failed[c] = static_cast<unsigned char>(result.status[end]);
-            else
-              lanes[count++] = end;
-          }
-          i = end;
-          if (cell_failed[c] || !count) continue;
-          double* out = cell_force_[c * n].data();  // n packed Vec3
-          if (count == kType4Lanes) {  // a whole batch in one cell: a fixed pairwise sum (no serial chain)
-            for (size_t s = 0; s < n; ++s)
-              for (int k = 0; k < 3; ++k) {
-                const double* f = result.force[s][k];
-                out[3 * s + static_cast<size_t>(k)] += ((f[0] + f[1]) + (f[2] + f[3])) + ((f[4] + f[5]) + (f[6] + f[7]));
-              }
-            continue;
-          }
-          for (size_t s = 0; s < n; ++s)
-            for (int k = 0; k < 3; ++k) {
-              double sum = out[3 * s + static_cast<size_t>(k)];
-              for (int j = 0; j < count; ++j) sum += result.force[s][k][lanes[j]];
-              out[3 * s + static_cast<size_t>(k)] = sum;
-            }
-        }
+        scatter_batch(result, batch.active, lane_cell, n, cell_force_.data(), cell_failed.data());
       }
       for (size_t q = q_begin; q < q_end; ++q)
         if (point_slot_[q] >= 0 && !(mls_lanes && mls_batched_[q]) && !cell_failed[cell_of(q)]) scalar_point(q);
@@ -470,33 +520,10 @@ ForceFailure ShellPatch::compute_forces() {
 
   if (mls_lanes) mls_batch_forces(data, with_director, cell_failed);
 
-  ForceFailure failure;
-  for (size_t c = 0; c < num_cells_; ++c) {
-    if (!cell_failed[c]) continue;
-    failure.failed = true;
-    failure.quadrature_point = c * points_per_cell_;
-    failure.parameter = param_[failure.quadrature_point];
-    const std::string cell = " in cell " + std::to_string(c);
-    failure.reason = cell_failed[c] == 2 ? "shear particle director crushed into the tangent plane" + cell
-                     : cell_failed[c] == 3
-                         ? "shell element stretched to more than " + std::to_string(static_cast<int>(kRunawayAreaRatio)) +
-                               " times its area" + cell + " (a diverging step: lower time.cfl or dt)"
-                         : "degenerate or collapsed shell element (area ratio <= 0)" + cell;
-    return failure;
-  }
-  // Deterministic gather: the cell contributions, then the MLS contributions, in a fixed order.
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, x.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      Vec3 f = Vec3::Zero();
-      for (int k = gather_offsets_[i]; k < gather_offsets_[i + 1]; ++k) f += cell_force_[static_cast<size_t>(gather_[static_cast<size_t>(k)])];
-      for (int k = mls_gather_offsets_[i]; k < mls_gather_offsets_[i + 1]; ++k) {
-        const auto& e = mls_gather_[static_cast<size_t>(k)];
-        f += slots_[static_cast<size_t>(e.first)].force[static_cast<size_t>(e.second)];
-      }
-      force[i] = f;
-    }
-  });
-  return failure;
+  for (size_t c = 0; c < num_cells_; ++c)
+    if (cell_failed[c]) return cell_failure(c, cell_failed[c], c * points_per_cell_, param_[c * points_per_cell_]);
+  gather_control_forces(gather_offsets_, gather_, cell_force_, mls_gather_offsets_, mls_gather_, slots_, force);
+  return {};
 }
 
 void ShellPatch::mls_batch_forces(const Type4Data& data, bool with_director, std::vector<unsigned char>& cell_failed) {

@@ -17,10 +17,6 @@ namespace shellfrac::sim {
 
 namespace {
 
-}  // namespace
-
-namespace {
-
 // Visibility of particle pairs, memoised: an open-addressing table (linear probing, power-of-two size,
 // at most half full) keyed by the packed pair. Cheaper than a node-based map: one multiply to hash and
 // usually one probe, no allocation per entry.
@@ -64,6 +60,53 @@ class PairVisibilityMap {
   size_t used_ = 0;
   int shift_ = 64;
 };
+
+// The partition's view of each particle set: shell sets with their near-crack flags, or a solid.
+std::vector<mpm::PartitionRole> partition_roles(const World& world) {
+  std::vector<mpm::PartitionRole> roles(world.particle_sets().size());
+  for (size_t s = 0; s < roles.size(); ++s) {
+    const SetRef& r = world.set(s);
+    if (r.kind == SetKind::ControlPoints)
+      roles[s] = {mpm::FieldKind::Shell, world.shell(r.body).control_near_crack().data()};
+    else if (r.kind == SetKind::ShearParticles)
+      roles[s] = {mpm::FieldKind::Shell, world.shell(r.body).shear_near_crack().data()};
+    else
+      roles[s] = {mpm::FieldKind::Solid, nullptr};
+  }
+  return roles;
+}
+
+// Whether the visibility cache's keys can pack (set, particle) of every shell particle into 32 bits:
+// shell sets < 2^8, particles < 2^24.
+bool cache_keys_fit(const World& world) {
+  const std::vector<mpm::ParticleSet>& sets = world.particle_sets();
+  size_t shell_sets = 0;
+  for (size_t s = 0; s < sets.size(); ++s)
+    if (world.set(s).kind != SetKind::SolidParticles) {
+      shell_sets = s + 1;
+      if (sets[s].count >= (size_t{1} << 24)) return false;
+    }
+  return shell_sets < (size_t{1} << 8);
+}
+
+// Per set, looked up once per partition rather than per query: shell or not, its body, and (for shells)
+// whether that shell has a crack and is on a coupled seam.
+struct SetInfo {
+  bool shell;
+  bool cracked;
+  bool coupled;
+  size_t body;
+};
+
+std::vector<SetInfo> set_infos(const World& world, const std::vector<unsigned char>& coupled_patch) {
+  std::vector<SetInfo> info(world.particle_sets().size());
+  for (size_t s = 0; s < info.size(); ++s) {
+    const SetRef& r = world.set(s);
+    const bool shell = r.kind != SetKind::SolidParticles;
+    info[s] = {shell, shell && world.shell(r.body).crack() != nullptr, shell && coupled_patch[r.body] != 0, r.body};
+  }
+  return info;
+}
 
 }  // namespace
 
@@ -203,33 +246,14 @@ void CrackSystem::partition(const World& world, mpm::SparseGrid& grid, const Sea
     return;
   }
   const std::vector<mpm::ParticleSet>& sets = world.particle_sets();
-  std::vector<mpm::PartitionRole> roles(sets.size());
-  for (size_t s = 0; s < sets.size(); ++s) {
-    const SetRef& r = world.set(s);
-    if (r.kind == SetKind::ControlPoints)
-      roles[s] = {mpm::FieldKind::Shell, world.shell(r.body).control_near_crack().data()};
-    else if (r.kind == SetKind::ShearParticles)
-      roles[s] = {mpm::FieldKind::Shell, world.shell(r.body).shear_near_crack().data()};
-    else
-      roles[s] = {mpm::FieldKind::Solid, nullptr};
-  }
   auto parameter = [&](uint32_t set, uint32_t particle) {
     const SetRef& r = world.set(set);
     const shell::ShellPatch& p = world.shell(r.body);
     return r.kind == SetKind::ControlPoints ? p.control_parameter(particle) : p.shear_parameter(particle);
   };
-  auto is_shell = [&](uint32_t set) { return world.set(set).kind != SetKind::SolidParticles; };
   size_t segments = 0;
   for (const auto& c : cracks_) segments += c ? c->graph().num_edges() : 0;
-  // Cache keys pack (set, particle) of shell particles into 32 bits: shell sets < 2^8, particles < 2^24.
-  size_t shell_sets = 0;
-  bool cacheable = true;
-  for (size_t s = 0; s < sets.size(); ++s)
-    if (is_shell(static_cast<uint32_t>(s))) {
-      shell_sets = s + 1;
-      cacheable = cacheable && sets[s].count < (size_t{1} << 24);
-    }
-  cacheable = cacheable && shell_sets < (size_t{1} << 8);
+  const bool cacheable = cache_keys_fit(world);
   if (!visibility_ || segments != visibility_->segments) {
     visibility_ = std::make_unique<VisibilityCache>();
     visibility_->segments = segments;
@@ -250,20 +274,7 @@ void CrackSystem::partition(const World& world, mpm::SparseGrid& grid, const Sea
     const crack2d::CrackIndex* index = world.shell(pa).crack();
     return !index || !index->crosses(parameter(sa, a), parameter(sb, b));
   };
-  // Per set, looked up once here rather than per query: shell or not, its body, and (for shells) whether
-  // that shell has a crack and is on a coupled seam.
-  struct SetInfo {
-    bool shell;
-    bool cracked;
-    bool coupled;
-    size_t body;
-  };
-  std::vector<SetInfo> info(sets.size());
-  for (size_t s = 0; s < sets.size(); ++s) {
-    const SetRef& r = world.set(s);
-    const bool shell = r.kind != SetKind::SolidParticles;
-    info[s] = {shell, shell && world.shell(r.body).crack() != nullptr, shell && coupled_patch_[r.body] != 0, r.body};
-  }
+  const std::vector<SetInfo> info = set_infos(world, coupled_patch_);
   VisibilityCache& cache_owner = *visibility_;
   const mpm::Connectivity connected = [&](uint32_t sa, uint32_t a, uint32_t sb, uint32_t b) {
     const SetInfo &ia = info[sa], &ib = info[sb];
@@ -298,7 +309,7 @@ void CrackSystem::partition(const World& world, mpm::SparseGrid& grid, const Sea
     }
     return !world.shell(first.body).crack()->touches(box);
   };
-  phantoms_ = mpm::partition_nodes(grid, sets, roles, connected, one_component, &partition_memo_);
+  phantoms_ = mpm::partition_nodes(grid, sets, partition_roles(world), connected, one_component, &partition_memo_);
   grid.set_phantom_copies(phantoms_);
   stats_.max_split_nodes = std::max(stats_.max_split_nodes, phantoms_.split_nodes);
 }

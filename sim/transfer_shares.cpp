@@ -1,6 +1,9 @@
 #include "sim/transfer_shares.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <stdexcept>
 
 namespace shellfrac::sim {
 
@@ -153,20 +156,32 @@ void TransferShares::update(World& world, double intact, double active, const st
     const std::vector<double>& plastic = patch.plastic_strain_values();
     // A cell is active when any of its layer points is damaged, has flowed plastically, or no longer uses
     // the plain NURBS basis (a crack runs through its support).
+    // Every step reads every layer point (480K on a 100 x 100 sheet), so cells are scanned in parallel;
+    // a cell's points are contiguous (ShellPatch::cell_of).
     cell_active_.assign(patch.num_cells(), 0);
-    for (size_t q = 0; q < patch.num_inplane_points(); ++q) {
-      unsigned char hit = patch.point_level(q) != shell::BasisLevel::Nurbs;
-      for (size_t l = 0; l < layers && hit < 2; ++l) {
-        const size_t k = q * layers + l;
-        if (!damage.empty() && damage[k] > 0) hit = 2;
-        else if (!plastic.empty() && plastic[k] > 0) hit = 1;
+    const size_t per_cell = patch.num_cells() ? patch.num_inplane_points() / patch.num_cells() : 0;
+    if (per_cell * patch.num_cells() != patch.num_inplane_points() || (per_cell && patch.cell_of(per_cell - 1) != 0))
+      throw std::logic_error("TransferShares: a patch's quadrature points are not grouped by cell");
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, patch.num_cells(), 64), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t c = r.begin(); c != r.end(); ++c) {
+        unsigned char cell = 0;
+        for (size_t q = c * per_cell; q < (c + 1) * per_cell && cell < 2; ++q) {
+          unsigned char hit = patch.point_level(q) != shell::BasisLevel::Nurbs;
+          for (size_t l = 0; l < layers && hit < 2; ++l) {
+            const size_t k = q * layers + l;
+            if (!damage.empty() && damage[k] > 0) hit = 2;
+            else if (!plastic.empty() && plastic[k] > 0) hit = 1;
+          }
+          cell = std::max(cell, hit);
+        }
+        cell_active_[c] = cell;
       }
-      unsigned char& cell = cell_active_[patch.cell_of(q)];
-      cell = std::max(cell, hit);
-    }
+    });
     const std::vector<unsigned char>& control_near = patch.control_near_crack();
-    for (size_t k = 0; k < control.size(); ++k)
-      control[k] = control_near[k] || seam_held_[i][k] || touches_collider(patch.x[k]) ? active : intact;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, control.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t k = r.begin(); k != r.end(); ++k)
+        control[k] = control_near[k] || seam_held_[i][k] || touches_collider(patch.x[k]) ? active : intact;
+    });
     const int support = patch.support_size();
     const bool local = where_damaged_[i];
     std::vector<int>& damaged_control = damaged_control_[i];

@@ -6,6 +6,7 @@
 #include <tbb/global_control.h>
 
 #include <random>
+#include <tuple>
 
 namespace shellfrac::mpm {
 namespace {
@@ -69,6 +70,48 @@ TEST(SparseGrid, KeptLayoutGivesTheSameBitsAsAFreshOne) {
   size_t differ = 0;
   for (size_t i = 0; i < fresh.x.size(); ++i)
     differ += fresh.x[i] != kept.x[i] || fresh.v[i] != kept.v[i] || fresh.C[i] != kept.C[i] || fresh.grad[i] != kept.grad[i];
+  EXPECT_EQ(differ, 0u);
+}
+
+// The same with slow particles in two sets, as a sheet's control points and shear particles move: on
+// some steps nobody changes block and the bins and entry order are kept; on others a few particles cross
+// a block border and are binned again; halfway the second set loses particles, which bins all afresh.
+// Every step's particles equal those of a layout built afresh, bit for bit.
+TEST(SparseGrid, RefreshedBinsGiveTheSameBitsAsAFreshLayout) {
+  Particles fresh_a = random_particles(300, 21, Vec3(0.2, 0.3, 0.1), 0.5);
+  Particles fresh_b = random_particles(200, 22, Vec3(0.25, 0.2, 0.1), 0.5);
+  Particles kept_a = fresh_a, kept_b = fresh_b;
+  SparseGrid a(0.05), b(0.05);
+  a.set_layout_reuse(0);
+  for (int step = 0; step < 80; ++step) {
+    if (step == 40)
+      for (Particles* p : {&fresh_b, &kept_b}) {
+        p->x.resize(150);
+        p->v.resize(150);
+      }
+    for (auto [grid, pa, pb] : {std::tuple<SparseGrid*, Particles*, Particles*>{&a, &fresh_a, &fresh_b},
+                                {&b, &kept_a, &kept_b}}) {
+      std::vector<ParticleSet> sets{pa->set(true), pb->set(false)};
+      grid->rebuild(sets);
+      grid->transfer_mass_momentum(sets);
+      grid->transfer_forces(sets);
+      grid->update_velocities(1e-3, Vec3(0, -9.81, 0));
+      grid->transfer_to_particles(sets, 5e-5);
+      for (Particles* p : {pa, pb})
+        for (size_t i = 0; i < p->x.size(); ++i) p->x[i] += 5e-5 * p->v[i];  // at most 0.002 cells per step
+    }
+  }
+  // Each path ran: kept bins, particles binned again on the kept layout, and fresh layouts (the first
+  // step, every kDefaultLayoutReuse + 1 steps, and the step the set shrank).
+  const SparseGrid::RebuildCounts& c = b.rebuild_counts();
+  EXPECT_GT(c.kept_bins, 10u);
+  EXPECT_GT(c.rebinned, 5u);
+  EXPECT_GE(c.fresh_layouts, 80u / (SparseGrid::kDefaultLayoutReuse + 1));
+  EXPECT_EQ(c.kept_bins + c.rebinned + c.fresh_layouts + c.kept_layout_rebinned_afresh, 80u);
+  EXPECT_EQ(a.rebuild_counts().fresh_layouts, 80u);
+  size_t differ = 0;
+  for (auto [f, k] : {std::pair<Particles*, Particles*>{&fresh_a, &kept_a}, {&fresh_b, &kept_b}})
+    for (size_t i = 0; i < f->x.size(); ++i) differ += f->x[i] != k->x[i] || f->v[i] != k->v[i] || f->grad[i] != k->grad[i];
   EXPECT_EQ(differ, 0u);
 }
 
