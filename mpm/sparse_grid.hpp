@@ -147,9 +147,9 @@ class SparseGrid {
   void build_layout(const std::vector<uint64_t>& particle_keys);
   // The key of the block holding the base node of a particle at x; false if x is not finite or out of range.
   bool base_key(const Vec3& x, uint64_t& key) const;
-  // True if `block` is active and so are its forward neighbours, which a stencil based in it reaches.
   // A cheaper test than base_key()'s for the common case: finite and well inside the key range.
   bool well_inside_range(const Vec3& x) const;
+  // True if `block` is active and so are its forward neighbours, which a stencil based in it reaches.
   bool holds_stencils_of(int32_t block) const;
   // rebuild() on the kept layout with the same particle sets: new stencils in place, and the particles
   // binned again only if some changed block. False if one left the layout or cannot be placed.
