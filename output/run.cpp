@@ -253,6 +253,74 @@ void warn_about_run(const Summary& s, std::ostream& log) {
         << "): material that joins pieces, see metrics.strand_area in docs/cli.md\n";
 }
 
+// What stepping towards a frame time ended with.
+enum class FrameEnd { reached, stopped, resting };
+
+// The run's frames: the steps to every frame time, taken here so that progress, callbacks and interrupts
+// see every step (sim/ does no I/O), then the frame's files. Ends early when a stop is requested, the
+// scene comes to rest (time.until_rest) or only broken brittle solids are left.
+struct FrameLoop {
+  const scene::Model& model;
+  const RunOptions& options;
+  sim::Simulation& sim;
+  FrameWriter& frames;
+  BrittleWriter& brittle;
+  ShatterWriter& shatter;
+  VerificationRecorder& verification;
+  StepWatchdog& watchdog;
+  Progress& progress;
+  int last_frame;
+  double peak_kinetic = 0;
+
+  bool stop_requested() const { return interrupt_signal() != 0 || (options.should_stop && options.should_stop()); }
+
+  std::string where(int f) const {
+    return "frame " + std::to_string(f) + "/" + std::to_string(last_frame) + ", step " + std::to_string(sim.steps());
+  }
+
+  void write_frame(int f) {
+    watchdog.record(sim.time(), f, last_frame, sim.steps(), StepWatchdog::Activity::writing_frame);
+    frames.write(sim, f);
+    shatter.write_frame(sim, f);
+    verification.at_frame(sim, f);
+  }
+
+  // The steps of sim.advance_to(t); advance_to then only lands the clock exactly on the frame time.
+  FrameEnd step_to(double t, int f) {
+    while (sim.time() < t - 1e-12 * std::max(1.0, t)) {
+      if (stop_requested()) return FrameEnd::stopped;
+      const double remaining = t - sim.time();
+      const double n = std::ceil(remaining / sim.stable_dt() - 1e-9);
+      watchdog.record(sim.time(), f, last_frame, sim.steps(), StepWatchdog::Activity::stepping);
+      sim.step(n <= 1 ? remaining : remaining / n);
+      const bool resting = verification.after_step(sim);
+      if (options.on_step) options.on_step(StepReport{sim.steps(), sim.time(), model.time.end, f, last_frame});
+      if (progress.due()) progress.update(sim.time(), where(f));
+      if (resting) return FrameEnd::resting;  // time.until_rest: the last frame holds the state at rest
+    }
+    return FrameEnd::reached;
+  }
+
+  // True when a stop request ended the run.
+  bool run() {
+    write_frame(0);
+    for (int f = 1; f <= last_frame; ++f) {
+      const double t = scene::model::frame_time(f, model.time.end, model.time.frame_rate);
+      const FrameEnd end = step_to(t, f);
+      if (end == FrameEnd::stopped) return true;
+      if (end == FrameEnd::reached) sim.advance_to(t);
+      peak_kinetic = std::max(peak_kinetic, sim.kinetic_energy());
+      write_frame(f);
+      progress.update(sim.time(), where(f));
+      brittle.write_new_events(sim);
+      if (sim.finished()) return false;  // only brittle solids, all broken
+      if (stop_requested()) return true;
+      if (end == FrameEnd::resting) return false;
+    }
+    return false;
+  }
+};
+
 }  // namespace
 
 Summary run_scene(const scene::Model& model, const RunOptions& options, std::ostream& log) {
@@ -278,9 +346,9 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
   ShatterWriter shatter(model, options.out_dir);  // rigid bodies and their fragments per frame
   std::string animation;                          // their glTF animation, once the run ends
   VerificationRecorder verification(sim, options.out_dir);  // probes, reactions, rest (docs/cli.md)
-  double peak_kinetic = 0;
+  FrameLoop loop{model, options, sim, frames, brittle, shatter, verification, watchdog, progress, last_frame};
   auto finish = [&](const std::string& status, const std::string& error) {
-    Summary s = make_summary(sim, frames, threads, peak_kinetic, status);
+    Summary s = make_summary(sim, frames, threads, loop.peak_kinetic, status);
     if (!error.empty()) s.error = error;
     if (!model.brittle_solids.empty()) s.brittle = brittle.reports(sim);
     if (!sim.shatter().empty()) s.shatter = shatter_json(sim.shatter().loop(), shatter.frames(), animation);
@@ -289,53 +357,16 @@ Summary run_scene(const scene::Model& model, const RunOptions& options, std::ost
     render_mesh::write_file_atomically(options.out_dir / "summary.json", to_json(s).dump(2) + "\n");
     return s;
   };
-  auto stop_requested = [&] { return interrupt_signal() != 0 || (options.should_stop && options.should_stop()); };
   // A fracture event of the shatter loop can run for minutes inside one step: its MPM steps show in the
   // progress lines, and Ctrl-C abandons it (the body stays whole) instead of waiting for its end.
   sim.set_event_observer([&](const shatter::EventProgress& e) {
     watchdog.record_detail(event_detail(e));
-    return !stop_requested();
+    return !loop.stop_requested();
   });
 
-  bool stopped = false, resting = false;
+  bool stopped = false;
   try {
-    watchdog.record(0, 0, last_frame, 0, Activity::writing_frame);
-    frames.write(sim, 0);
-    shatter.write_frame(sim, 0);
-    verification.at_frame(sim, 0);
-    for (int f = 1; f <= last_frame && !stopped && !resting; ++f) {
-      // The steps of sim.advance_to, taken here so that progress, callbacks and interrupts see every
-      // step (sim/ does no I/O); advance_to then only lands the clock exactly on the frame time.
-      const double t = scene::model::frame_time(f, model.time.end, model.time.frame_rate);
-      while (sim.time() < t - 1e-12 * std::max(1.0, t)) {
-        if (stop_requested()) {
-          stopped = true;
-          break;
-        }
-        const double remaining = t - sim.time();
-        const double n = std::ceil(remaining / sim.stable_dt() - 1e-9);
-        watchdog.record(sim.time(), f, last_frame, sim.steps(), Activity::stepping);
-        sim.step(n <= 1 ? remaining : remaining / n);
-        resting = verification.after_step(sim);
-        if (options.on_step) options.on_step(StepReport{sim.steps(), sim.time(), model.time.end, f, last_frame});
-        if (progress.due())
-          progress.update(sim.time(), "frame " + std::to_string(f) + "/" + std::to_string(last_frame) + ", step " +
-                                          std::to_string(sim.steps()));
-        if (resting) break;  // time.until_rest: the last frame holds the state at rest
-      }
-      if (stopped) break;
-      if (!resting) sim.advance_to(t);
-      peak_kinetic = std::max(peak_kinetic, sim.kinetic_energy());
-      watchdog.record(sim.time(), f, last_frame, sim.steps(), Activity::writing_frame);
-      frames.write(sim, f);
-      shatter.write_frame(sim, f);
-      verification.at_frame(sim, f);
-      progress.update(sim.time(), "frame " + std::to_string(f) + "/" + std::to_string(last_frame) + ", step " +
-                                      std::to_string(sim.steps()));
-      brittle.write_new_events(sim);
-      if (sim.finished()) break;  // only brittle solids, all broken
-      stopped = stop_requested();
-    }
+    stopped = loop.run();
     sim.finish_brittle();
     brittle.write_new_events(sim);
     animation = shatter.write_animation(sim);
