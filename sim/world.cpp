@@ -24,6 +24,67 @@ shell::ShellMaterial shell_material(const scene::model::Shell& s, const scene::m
   return m;
 }
 
+// Every mass-carrying particle of the shell starts with the shell's initial velocity: control points
+// and Type III particles. With a per-control-point field, a shear particle takes the field's NURBS
+// interpolation at its parameter.
+void set_initial_velocity(shell::ShellPatch& patch, const scene::model::Shell& s) {
+  for (auto& v : patch.v) v = s.initial_velocity;
+  for (auto& v : patch.shear.v) v = s.initial_velocity;
+  if (s.initial_velocity_field.empty()) return;
+  for (size_t k = 0; k < patch.v.size(); ++k) patch.v[k] += s.initial_velocity_field[k];
+  nurbs::SurfaceBasis basis;
+  for (size_t c = 0; c < patch.shear.v.size(); ++c) {
+    const Eigen::Vector2d& uv = patch.shear_parameter(c);
+    patch.reference().rational_basis(uv.x(), uv.y(), basis);
+    for (int k = 0; k < basis.count; ++k)
+      patch.shear.v[c] += basis.R[static_cast<size_t>(k)] * s.initial_velocity_field[static_cast<size_t>(basis.index[static_cast<size_t>(k)])];
+  }
+}
+
+// A solid body's particles, sampled once in its volume.
+mpm::SolidParticles sample_solid(const scene::model::SolidBody& b, const std::string& source) {
+  mpm::SolidParticles solid;
+  const scene::model::Material& m = b.material;
+  solid.material = {m.mu(), m.lambda(), m.density};
+  solid.add(b.poisson_disk ? mpm::sample_poisson_disk(*b.geometry, b.lo, b.hi, b.spacing, b.seed)
+                           : mpm::sample_jittered(*b.geometry, b.lo, b.hi, b.spacing, b.seed),
+            b.spacing, b.initial_velocity);
+  if (solid.size() == 0) throw scene::SceneError(source, "/solids", "solid \"" + b.name + "\" received no particles");
+  return solid;
+}
+
+// The control points as the grid sees them (Type II: mass, momentum, generalized force). `mass` is the
+// transfer mass (zero for kinematic points); empty `affine` or `flip_part`: the shell has none.
+mpm::ParticleSet control_particles(shell::ShellPatch& p, std::vector<double>& mass, std::vector<Eigen::Matrix3d>& affine,
+                                   std::vector<Eigen::Vector3d>& flip_part, double flip) {
+  mpm::ParticleSet control;
+  control.count = p.x.size();
+  control.position = p.x.data();
+  control.velocity = p.v.data();
+  control.mass = mass.data();
+  control.force = p.force.data();
+  control.affine = affine.empty() ? nullptr : affine.data();
+  control.flip_part = flip_part.empty() ? nullptr : flip_part.data();
+  control.flip = flip;
+  return control;
+}
+
+// The shear particles as the grid sees them (Type III: grid stress term, and the velocity gradient that
+// advects their director); their affine velocity keeps its rotation only.
+mpm::ParticleSet shear_particles(shell::ShellPatch& p, std::vector<Eigen::Matrix3d>& affine, double flip) {
+  mpm::ParticleSet shear;
+  shear.count = p.shear.x.size();
+  shear.position = p.shear.x.data();
+  shear.velocity = p.shear.v.data();
+  shear.mass = p.shear.mass.data();
+  shear.stress = p.shear.stress.data();
+  shear.velocity_gradient = p.shear.velocity_gradient.data();
+  shear.affine = affine.empty() ? nullptr : affine.data();
+  shear.rigid_affine = true;
+  shear.flip = flip;
+  return shear;
+}
+
 }  // namespace
 
 World::World(const scene::Model& model) {
@@ -35,21 +96,7 @@ World::World(const scene::Model& model) {
     } catch (const std::invalid_argument& e) {  // e.g. a degenerate (collapsed) control net
       throw scene::SceneError(model.source, "/shells/" + std::to_string(i) + "/patch", e.what());
     }
-    // Every mass-carrying particle of the shell starts with it: control points and Type III particles.
-    shell::ShellPatch& patch = patches_.back();
-    for (auto& v : patch.v) v = s.initial_velocity;
-    for (auto& v : patch.shear.v) v = s.initial_velocity;
-    if (!s.initial_velocity_field.empty()) {
-      // Per control point; a shear particle takes the field's NURBS interpolation at its parameter.
-      for (size_t k = 0; k < patch.v.size(); ++k) patch.v[k] += s.initial_velocity_field[k];
-      nurbs::SurfaceBasis basis;
-      for (size_t c = 0; c < patch.shear.v.size(); ++c) {
-        const Eigen::Vector2d& uv = patch.shear_parameter(c);
-        patch.reference().rational_basis(uv.x(), uv.y(), basis);
-        for (int k = 0; k < basis.count; ++k)
-          patch.shear.v[c] += basis.R[static_cast<size_t>(k)] * s.initial_velocity_field[static_cast<size_t>(basis.index[static_cast<size_t>(k)])];
-      }
-    }
+    set_initial_velocity(patches_.back(), s);
     initial_positions_.push_back(patches_.back().x);
     transfer_mass_.push_back(patches_.back().mass);
     // A shell that grid.cracking_shells "pic" puts on PIC under the adaptive transfer has no affine
@@ -63,15 +110,7 @@ World::World(const scene::Model& model) {
   }
   solids_.reserve(model.solids.size());
   for (const scene::model::SolidBody& b : model.solids) {
-    mpm::SolidParticles solid;
-    const scene::model::Material& m = b.material;
-    solid.material = {m.mu(), m.lambda(), m.density};
-    solid.add(b.poisson_disk ? mpm::sample_poisson_disk(*b.geometry, b.lo, b.hi, b.spacing, b.seed)
-                             : mpm::sample_jittered(*b.geometry, b.lo, b.hi, b.spacing, b.seed),
-              b.spacing, b.initial_velocity);
-    if (solid.size() == 0)
-      throw scene::SceneError(model.source, "/solids", "solid \"" + b.name + "\" received no particles");
-    solids_.push_back(std::move(solid));
+    solids_.push_back(sample_solid(b, model.source));
     solid_names_.push_back(b.name);
   }
   // Pinned control points are driven kinematically: they take no part in the grid transfers (their
@@ -83,35 +122,14 @@ World::World(const scene::Model& model) {
     for (size_t k = 0; k < kinematic_[i].size(); ++k)
       if (kinematic_[i][k]) transfer_mass_[i][k] = 0.0;
 
-  // Per patch: the control points (Type II: mass, momentum, generalized force) and the shear
-  // particles (Type III: grid stress term, and the velocity gradient that advects their director).
+  // The grid's particle sets: per patch its control points and its shear particles, then the solids.
   for (size_t i = 0; i < patches_.size(); ++i) {
-    shell::ShellPatch& p = patches_[i];
-    mpm::ParticleSet control;
-    control.count = p.x.size();
-    control.position = p.x.data();
-    control.velocity = p.v.data();
-    control.mass = transfer_mass_[i].data();
-    control.force = p.force.data();
-    control.affine = affine_[i].empty() ? nullptr : affine_[i].data();
-    control.flip_part = flip_part_[i].empty() ? nullptr : flip_part_[i].data();
-    control.flip = model.grid.flip;
     control_set_.push_back(sets_.size());
     layout_.push_back({SetKind::ControlPoints, i});
-    sets_.push_back(control);
-    mpm::ParticleSet shear;
-    shear.count = p.shear.x.size();
-    shear.position = p.shear.x.data();
-    shear.velocity = p.shear.v.data();
-    shear.mass = p.shear.mass.data();
-    shear.stress = p.shear.stress.data();
-    shear.velocity_gradient = p.shear.velocity_gradient.data();
-    shear.affine = shear_affine_[i].empty() ? nullptr : shear_affine_[i].data();
-    shear.rigid_affine = true;
-    shear.flip = model.grid.flip;
+    sets_.push_back(control_particles(patches_[i], transfer_mass_[i], affine_[i], flip_part_[i], model.grid.flip));
     shear_set_.push_back(sets_.size());
     layout_.push_back({SetKind::ShearParticles, i});
-    sets_.push_back(shear);
+    sets_.push_back(shear_particles(patches_[i], shear_affine_[i], model.grid.flip));
   }
   for (size_t k = 0; k < solids_.size(); ++k) {
     layout_.push_back({SetKind::SolidParticles, k});
