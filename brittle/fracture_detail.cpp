@@ -242,98 +242,128 @@ Vec3 DamageTimeGrid::gradient(const Vec3& x) const {
   return g / weight;
 }
 
-void refine_crack_faces(TriMesh& mesh, std::vector<char>& crack, double edge) {
-  if (!(edge > 0)) throw InputError("fracture detail: the refinement edge length must be positive");
-  const bool normals = mesh.has_normals(), uvs = mesh.has_uvs();
-  auto edge_key = [&](int a, int b) {
-    PositionKey pa = key_of(mesh.positions[static_cast<size_t>(a)]), pb = key_of(mesh.positions[static_cast<size_t>(b)]);
-    if (pb < pa) std::swap(pa, pb);
-    return std::make_pair(pa, pb);
-  };
-  for (int round = 0; round < 64; ++round) {
-    std::map<std::pair<PositionKey, PositionKey>, char> split;  // geometric edges to split
-    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
-      if (!crack[t]) continue;
-      const Tri& tri = mesh.triangles[t];
-      for (int e = 0; e < 3; ++e) {
-        const int a = tri[e], b = tri[(e + 1) % 3];
-        if ((mesh.positions[static_cast<size_t>(a)] - mesh.positions[static_cast<size_t>(b)]).norm() > edge)
-          split[edge_key(a, b)] = 1;
-      }
+namespace {
+
+using GeometricEdge = std::pair<PositionKey, PositionKey>;
+
+// An edge by the positions of its ends, in canonical order: copies of one edge in different triangles
+// (crack faces duplicate vertices) get the same key.
+GeometricEdge geometric_edge(const TriMesh& mesh, int a, int b) {
+  PositionKey pa = key_of(mesh.positions[static_cast<size_t>(a)]), pb = key_of(mesh.positions[static_cast<size_t>(b)]);
+  if (pb < pa) std::swap(pa, pb);
+  return std::make_pair(pa, pb);
+}
+
+// The midpoint vertex of each (vertex, vertex) pair, made once; its position from the canonical order of
+// the ends, so that every copy of the edge gets the bit-identical midpoint. Normals and UVs interpolated.
+class Midpoints {
+ public:
+  explicit Midpoints(TriMesh& mesh) : mesh_(mesh), normals_(mesh.has_normals()), uvs_(mesh.has_uvs()) {}
+  int operator()(int a, int b) {
+    const auto key = std::minmax(a, b);
+    const auto it = made_.find(key);
+    if (it != made_.end()) return it->second;
+    const Vec3 &pa = mesh_.positions[static_cast<size_t>(a)], &pb = mesh_.positions[static_cast<size_t>(b)];
+    const bool ordered = key_of(pa) < key_of(pb);
+    const Vec3 m = ordered ? Vec3(0.5 * (pa + pb)) : Vec3(0.5 * (pb + pa));
+    const int v = static_cast<int>(mesh_.positions.size());
+    mesh_.positions.push_back(m);
+    if (normals_) {
+      const Vec3 n = mesh_.normals[static_cast<size_t>(a)] + mesh_.normals[static_cast<size_t>(b)];
+      mesh_.normals.push_back(n.norm() > 0 ? Vec3(n.normalized()) : mesh_.normals[static_cast<size_t>(a)]);
     }
-    if (split.empty()) return;
-    // Midpoint vertex of each (vertex, vertex) pair; the position from the canonical order of the ends so
-    // that every copy of the edge gets the bit-identical midpoint.
-    std::map<std::pair<int, int>, int> midpoint;
-    auto mid = [&](int a, int b) {
-      const auto key = std::minmax(a, b);
-      const auto it = midpoint.find(key);
-      if (it != midpoint.end()) return it->second;
-      const Vec3 &pa = mesh.positions[static_cast<size_t>(a)], &pb = mesh.positions[static_cast<size_t>(b)];
-      const bool ordered = key_of(pa) < key_of(pb);
-      const Vec3 m = ordered ? Vec3(0.5 * (pa + pb)) : Vec3(0.5 * (pb + pa));
-      const int v = static_cast<int>(mesh.positions.size());
-      mesh.positions.push_back(m);
-      if (normals) {
-        const Vec3 n = mesh.normals[static_cast<size_t>(a)] + mesh.normals[static_cast<size_t>(b)];
-        mesh.normals.push_back(n.norm() > 0 ? Vec3(n.normalized()) : mesh.normals[static_cast<size_t>(a)]);
-      }
-      if (uvs) mesh.uvs.push_back(0.5 * (mesh.uvs[static_cast<size_t>(a)] + mesh.uvs[static_cast<size_t>(b)]));
-      midpoint.emplace(key, v);
-      return v;
-    };
-    std::vector<Tri> triangles;
-    std::vector<char> flags;
-    triangles.reserve(mesh.triangles.size() * 2);
-    auto emit = [&](int a, int b, int c, char flag) {
+    if (uvs_) mesh_.uvs.push_back(0.5 * (mesh_.uvs[static_cast<size_t>(a)] + mesh_.uvs[static_cast<size_t>(b)]));
+    made_.emplace(key, v);
+    return v;
+  }
+
+ private:
+  TriMesh& mesh_;
+  bool normals_, uvs_;
+  std::map<std::pair<int, int>, int> made_;
+};
+
+// Triangle `tri` with `count` of its edges cut (cut[e]: edge tri[e] tri[e + 1]) as 2, 3 or 4 triangles,
+// passed to emit(a, b, c).
+template <class Emit>
+void split_triangle(const TriMesh& mesh, const Tri& tri, const bool (&cut)[3], int count, Midpoints& mid, Emit&& emit) {
+  // Rotate so that edge 0 (v0 v1) is cut and, with two cuts, edge 2 (v2 v0) is the uncut one.
+  int r = 0;
+  if (count == 1) {
+    while (!cut[r]) ++r;
+  } else if (count == 2) {
+    while (cut[(r + 2) % 3]) ++r;
+  }
+  const int v0 = tri[r], v1 = tri[(r + 1) % 3], v2 = tri[(r + 2) % 3];
+  if (count == 1) {
+    const int m = mid(v0, v1);
+    emit(v0, m, v2);
+    emit(m, v1, v2);
+  } else if (count == 2) {
+    const int m01 = mid(v0, v1), m12 = mid(v1, v2);
+    emit(m01, v1, m12);
+    // The quad v0 m01 m12 v2 along its shorter diagonal (a choice by geometry only).
+    const auto P = [&](int v) -> const Vec3& { return mesh.positions[static_cast<size_t>(v)]; };
+    if ((P(v0) - P(m12)).squaredNorm() <= (P(m01) - P(v2)).squaredNorm()) {
+      emit(v0, m01, m12);
+      emit(v0, m12, v2);
+    } else {
+      emit(v0, m01, v2);
+      emit(m01, m12, v2);
+    }
+  } else {
+    const int m01 = mid(v0, v1), m12 = mid(v1, v2), m20 = mid(v2, v0);
+    emit(v0, m01, m20);
+    emit(m01, v1, m12);
+    emit(m20, m12, v2);
+    emit(m01, m12, m20);
+  }
+}
+
+// One round of refine_crack_faces: every geometric edge of a crack face longer than `edge` is split in
+// every triangle that has it. False when there was none.
+bool refine_round(TriMesh& mesh, std::vector<char>& crack, double edge) {
+  std::map<GeometricEdge, char> split;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (!crack[t]) continue;
+    const Tri& tri = mesh.triangles[t];
+    for (int e = 0; e < 3; ++e) {
+      const int a = tri[e], b = tri[(e + 1) % 3];
+      if ((mesh.positions[static_cast<size_t>(a)] - mesh.positions[static_cast<size_t>(b)]).norm() > edge)
+        split[geometric_edge(mesh, a, b)] = 1;
+    }
+  }
+  if (split.empty()) return false;
+  Midpoints mid(mesh);
+  std::vector<Tri> triangles;
+  std::vector<char> flags;
+  triangles.reserve(mesh.triangles.size() * 2);
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Tri tri = mesh.triangles[t];
+    const char flag = crack[t];
+    auto emit = [&](int a, int b, int c) {
       triangles.emplace_back(a, b, c);
       flags.push_back(flag);
     };
-    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
-      const Tri tri = mesh.triangles[t];
-      const char flag = crack[t];
-      bool cut[3];
-      int count = 0;
-      for (int e = 0; e < 3; ++e) count += cut[e] = split.count(edge_key(tri[e], tri[(e + 1) % 3])) > 0;
-      if (count == 0) {
-        emit(tri[0], tri[1], tri[2], flag);
-        continue;
-      }
-      // Rotate so that edge 0 (v0 v1) is cut and, with two cuts, edge 2 (v2 v0) is the uncut one.
-      int r = 0;
-      if (count == 1) {
-        while (!cut[r]) ++r;
-      } else if (count == 2) {
-        while (cut[(r + 2) % 3]) ++r;
-      }
-      const int v0 = tri[r], v1 = tri[(r + 1) % 3], v2 = tri[(r + 2) % 3];
-      if (count == 1) {
-        const int m = mid(v0, v1);
-        emit(v0, m, v2, flag);
-        emit(m, v1, v2, flag);
-      } else if (count == 2) {
-        const int m01 = mid(v0, v1), m12 = mid(v1, v2);
-        emit(m01, v1, m12, flag);
-        // The quad v0 m01 m12 v2 along its shorter diagonal (a choice by geometry only).
-        const auto P = [&](int v) -> const Vec3& { return mesh.positions[static_cast<size_t>(v)]; };
-        if ((P(v0) - P(m12)).squaredNorm() <= (P(m01) - P(v2)).squaredNorm()) {
-          emit(v0, m01, m12, flag);
-          emit(v0, m12, v2, flag);
-        } else {
-          emit(v0, m01, v2, flag);
-          emit(m01, m12, v2, flag);
-        }
-      } else {
-        const int m01 = mid(v0, v1), m12 = mid(v1, v2), m20 = mid(v2, v0);
-        emit(v0, m01, m20, flag);
-        emit(m01, v1, m12, flag);
-        emit(m20, m12, v2, flag);
-        emit(m01, m12, m20, flag);
-      }
-    }
-    mesh.triangles = std::move(triangles);
-    crack = std::move(flags);
+    bool cut[3];
+    int count = 0;
+    for (int e = 0; e < 3; ++e) count += cut[e] = split.count(geometric_edge(mesh, tri[e], tri[(e + 1) % 3])) > 0;
+    if (count == 0)
+      emit(tri[0], tri[1], tri[2]);
+    else
+      split_triangle(mesh, tri, cut, count, mid, emit);
   }
+  mesh.triangles = std::move(triangles);
+  crack = std::move(flags);
+  return true;
+}
+
+}  // namespace
+
+void refine_crack_faces(TriMesh& mesh, std::vector<char>& crack, double edge) {
+  if (!(edge > 0)) throw InputError("fracture detail: the refinement edge length must be positive");
+  for (int round = 0; round < 64; ++round)
+    if (!refine_round(mesh, crack, edge)) return;
 }
 
 std::vector<std::vector<size_t>> trace_chevron_lines(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
