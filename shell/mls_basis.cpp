@@ -253,24 +253,107 @@ namespace {
 // which is Eq. 4.20/4.21 with the A^-1 derivatives expanded, but needs only three NxN solves per derivative
 // order with one Cholesky factor of A, and never forms A_a or A_ab (A_a gamma = sum_k W_k,a (q_k . gamma) q_k).
 // N = 6: the quadratic basis of Eq. 4.16; N = 3: the linear basis (p_ab = 0).
+// The moment matrix A = sum_k W_k q_k q_k^T (thesis Eq. 4.17), with q_k = p(eta_k) (the Eq. 4.16 basis
+// in local coordinates) written to w.q.
 template <int N>
-MlsAttempt solve_order(std::size_t m, double d_u, double d_v, const MlsSettings& settings, MlsBasis& out) {
+Eigen::Matrix<double, N, N> moment_matrix(std::size_t m, MlsBasis::Workspace& w) {
   using VecN = Eigen::Matrix<double, N, 1>;
   using MatN = Eigen::Matrix<double, N, N>;
-  MlsBasis::Workspace& w = out.work;
   w.q.resize(static_cast<std::size_t>(N) * m);
-  out.index.assign(w.support.begin(), w.support.begin() + static_cast<std::ptrdiff_t>(m));
-  MatN A = MatN::Zero();  // thesis Eq. 4.17
+  MatN A = MatN::Zero();
   for (std::size_t k = 0; k < m; ++k) {
     Eigen::Map<VecN> q(&w.q[N * k]);
     const double e1 = w.e1[k], e2 = w.e2[k];
     if constexpr (N == 6) {
-      q << 1.0, e1, e2, e1 * e1, e1 * e2, e2 * e2;  // thesis Eq. 4.16 basis in local coordinates
+      q << 1.0, e1, e2, e1 * e1, e1 * e2, e2 * e2;
     } else {
       q << 1.0, e1, e2;
     }
     A.noalias() += w.W[k] * q * q.transpose();
   }
+  return A;
+}
+
+// gamma = A^-1 p at the evaluation point (eta = 0) and its first and second derivatives, each one solve
+// with the factor of A (see above).
+template <int N>
+struct Gammas {
+  using VecN = Eigen::Matrix<double, N, 1>;
+  VecN g, g1, g2, g11, g12, g22;
+};
+
+template <int N>
+Gammas<N> solve_gammas(const Eigen::LLT<Eigen::Matrix<double, N, N>>& A_llt, std::size_t m, const MlsBasis::Workspace& w) {
+  using VecN = Eigen::Matrix<double, N, 1>;
+  const auto solve = [&](const VecN& b) -> VecN { return A_llt.solve(b); };
+  Gammas<N> G;
+  G.g = solve(VecN::Unit(0));
+  VecN rhs1 = VecN::Unit(1), rhs2 = VecN::Unit(2);
+  for (std::size_t k = 0; k < m; ++k) {
+    const Eigen::Map<const VecN> q(&w.q[N * k]);
+    const double t = q.dot(G.g);
+    rhs1.noalias() -= (w.W1[k] * t) * q;
+    rhs2.noalias() -= (w.W2[k] * t) * q;
+  }
+  G.g1 = solve(rhs1);
+  G.g2 = solve(rhs2);
+
+  VecN rhs11 = VecN::Zero(), rhs12 = VecN::Zero(), rhs22 = VecN::Zero();
+  if constexpr (N == 6) {
+    rhs11(3) = 2.0;
+    rhs12(4) = 1.0;
+    rhs22(5) = 2.0;
+  }
+  for (std::size_t k = 0; k < m; ++k) {
+    const Eigen::Map<const VecN> q(&w.q[N * k]);
+    const double t = q.dot(G.g), t1 = q.dot(G.g1), t2 = q.dot(G.g2);
+    rhs11.noalias() -= (2.0 * w.W1[k] * t1 + w.W11[k] * t) * q;
+    rhs12.noalias() -= (w.W1[k] * t2 + w.W2[k] * t1 + w.W12[k] * t) * q;
+    rhs22.noalias() -= (2.0 * w.W2[k] * t2 + w.W22[k] * t) * q;
+  }
+  G.g11 = solve(rhs11);
+  G.g12 = solve(rhs12);
+  G.g22 = solve(rhs22);
+  return G;
+}
+
+// R_k = W_k q_k . gamma and its derivatives, with the chain rule back to parameter coordinates
+// (d/dxi_a = (1/d_a) d/dy_a). False if any value is not finite.
+template <int N>
+bool write_basis(const Gammas<N>& G, std::size_t m, double d_u, double d_v, MlsBasis& out) {
+  using VecN = Eigen::Matrix<double, N, 1>;
+  const MlsBasis::Workspace& w = out.work;
+  for (auto* a : {&out.R, &out.R1, &out.R2, &out.R11, &out.R12, &out.R22}) a->resize(m);
+  const double iu = 1.0 / d_u, iv = 1.0 / d_v;
+  double check = 0.0;
+  for (std::size_t k = 0; k < m; ++k) {
+    const Eigen::Map<const VecN> q(&w.q[N * k]);
+    const double t = q.dot(G.g), t1 = q.dot(G.g1), t2 = q.dot(G.g2);
+    const double W = w.W[k], W1 = w.W1[k], W2 = w.W2[k];
+    out.R[k] = W * t;                                                               // thesis Eq. 4.16
+    out.R1[k] = (W1 * t + W * t1) * iu;                                             // thesis Eq. 4.20
+    out.R2[k] = (W2 * t + W * t2) * iv;
+    out.R11[k] = (w.W11[k] * t + 2.0 * W1 * t1 + W * q.dot(G.g11)) * iu * iu;  // thesis Eq. 4.21
+    out.R12[k] = (w.W12[k] * t + W1 * t2 + W2 * t1 + W * q.dot(G.g12)) * iu * iv;
+    out.R22[k] = (w.W22[k] * t + 2.0 * W2 * t2 + W * q.dot(G.g22)) * iv * iv;
+    check += out.R[k] + out.R1[k] + out.R2[k] + out.R11[k] + out.R12[k] + out.R22[k];
+  }
+  return std::isfinite(check);
+}
+
+// With A = sum_k W_k q_k q_k^T (Eq. 4.17, q_k = p(eta_k)) and gamma = A^-1 p(eta) (A is symmetric),
+// R_k = W_k q_k . gamma is Eq. 4.16. Differentiating A gamma = p gives
+//   A gamma_a  = p_a  - A_a gamma,
+//   A gamma_ab = p_ab - A_a gamma_b - A_b gamma_a - A_ab gamma,
+// which is Eq. 4.20/4.21 with the A^-1 derivatives expanded, but needs only three NxN solves per derivative
+// order with one Cholesky factor of A, and never forms A_a or A_ab (A_a gamma = sum_k W_k,a (q_k . gamma) q_k).
+// N = 6: the quadratic basis of Eq. 4.16; N = 3: the linear basis (p_ab = 0).
+template <int N>
+MlsAttempt solve_order(std::size_t m, double d_u, double d_v, const MlsSettings& settings, MlsBasis& out) {
+  using VecN = Eigen::Matrix<double, N, 1>;
+  using MatN = Eigen::Matrix<double, N, N>;
+  out.index.assign(out.work.support.begin(), out.work.support.begin() + static_cast<std::ptrdiff_t>(m));
+  const MatN A = moment_matrix<N>(m, out.work);
 
   MlsAttempt attempt;
   attempt.neighbours = static_cast<int>(m);
@@ -294,55 +377,8 @@ MlsAttempt solve_order(std::size_t m, double d_u, double d_v, const MlsSettings&
   // Solve with A itself: its Cholesky residuals are what the reproduction identities (sum R q = p, ...)
   // depend on, and they came out smaller than solving through the equilibrated factor.
   const Eigen::LLT<MatN> A_llt(A);
-  const auto solve = [&](const VecN& b) -> VecN { return A_llt.solve(b); };
-
-  // p and its derivatives at the evaluation point (eta = 0).
-  const VecN gamma = solve(VecN::Unit(0));
-  VecN rhs1 = VecN::Unit(1), rhs2 = VecN::Unit(2);
-  for (std::size_t k = 0; k < m; ++k) {
-    const Eigen::Map<const VecN> q(&w.q[N * k]);
-    const double t = q.dot(gamma);
-    rhs1.noalias() -= (w.W1[k] * t) * q;
-    rhs2.noalias() -= (w.W2[k] * t) * q;
-  }
-  const VecN gamma1 = solve(rhs1);
-  const VecN gamma2 = solve(rhs2);
-
-  VecN rhs11 = VecN::Zero(), rhs12 = VecN::Zero(), rhs22 = VecN::Zero();
-  if constexpr (N == 6) {
-    rhs11(3) = 2.0;
-    rhs12(4) = 1.0;
-    rhs22(5) = 2.0;
-  }
-  for (std::size_t k = 0; k < m; ++k) {
-    const Eigen::Map<const VecN> q(&w.q[N * k]);
-    const double t = q.dot(gamma), t1 = q.dot(gamma1), t2 = q.dot(gamma2);
-    rhs11.noalias() -= (2.0 * w.W1[k] * t1 + w.W11[k] * t) * q;
-    rhs12.noalias() -= (w.W1[k] * t2 + w.W2[k] * t1 + w.W12[k] * t) * q;
-    rhs22.noalias() -= (2.0 * w.W2[k] * t2 + w.W22[k] * t) * q;
-  }
-  const VecN gamma11 = solve(rhs11);
-  const VecN gamma12 = solve(rhs12);
-  const VecN gamma22 = solve(rhs22);
-
-  for (auto* a : {&out.R, &out.R1, &out.R2, &out.R11, &out.R12, &out.R22}) a->resize(m);
-  // Chain rule back to parameter coordinates: d/dxi_a = (1/d_a) d/dy_a.
-  const double iu = 1.0 / d_u, iv = 1.0 / d_v;
-  double check = 0.0;
-  for (std::size_t k = 0; k < m; ++k) {
-    const Eigen::Map<const VecN> q(&w.q[N * k]);
-    const double t = q.dot(gamma), t1 = q.dot(gamma1), t2 = q.dot(gamma2);
-    const double W = w.W[k], W1 = w.W1[k], W2 = w.W2[k];
-    out.R[k] = W * t;                                                               // thesis Eq. 4.16
-    out.R1[k] = (W1 * t + W * t1) * iu;                                             // thesis Eq. 4.20
-    out.R2[k] = (W2 * t + W * t2) * iv;
-    out.R11[k] = (w.W11[k] * t + 2.0 * W1 * t1 + W * q.dot(gamma11)) * iu * iu;  // thesis Eq. 4.21
-    out.R12[k] = (w.W12[k] * t + W1 * t2 + W2 * t1 + W * q.dot(gamma12)) * iu * iv;
-    out.R22[k] = (w.W22[k] * t + 2.0 * W2 * t2 + W * q.dot(gamma22)) * iv * iv;
-    check += out.R[k] + out.R1[k] + out.R2[k] + out.R11[k] + out.R12[k] + out.R22[k];
-  }
-  if (!std::isfinite(check)) {  // cannot happen past the rcond test; never hand out NaN anyway
-    attempt.status = MlsStatus::ill_conditioned;
+  if (!write_basis<N>(solve_gammas<N>(A_llt, m, out.work), m, d_u, d_v, out)) {
+    attempt.status = MlsStatus::ill_conditioned;  // cannot happen past the rcond test; never hand out NaN anyway
     clear_result(out);
     return attempt;
   }
