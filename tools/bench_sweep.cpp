@@ -270,9 +270,11 @@ std::vector<std::pair<std::string, Discretisation>> sweep_plan(const AccuracyBen
   return plan;
 }
 
-std::vector<SweepRow> run_sweep(const SweepConfig& config, std::ostream& log) {
-  fs::create_directories(config.out_dir);
-  const auto benchmarks = accuracy_benchmarks(config.full, config.limits);
+namespace {
+
+// Runs every benchmark's plan; a diverging setting is reported and left out.
+std::vector<SweepRow> run_plans(const std::vector<AccuracyBenchmark>& benchmarks, const SweepConfig& config,
+                                std::ostream& log) {
   size_t total = 0;
   for (const auto& b : benchmarks) total += sweep_plan(b).size();
   output::Progress progress(log, output::Progress::stderr_is_terminal(), static_cast<double>(total), "runs");
@@ -294,9 +296,12 @@ std::vector<SweepRow> run_sweep(const SweepConfig& config, std::ostream& log) {
     }
   }
   progress.finish(std::to_string(rows.size()) + " runs");
+  return rows;
+}
 
-  // Resolution dependence of the brittle solids' local and non-local damage (tools/crack_speed.hpp): the
-  // notched bar and beam at three spacings (full), the coarse bar for 4 ms (tiny).
+// Resolution dependence of the brittle solids' local and non-local damage (tools/crack_speed.hpp): the
+// notched bar and beam at three spacings (full), the coarse bar for 4 ms (tiny).
+void run_crack_speed(const SweepConfig& config, std::ostream& log) {
   std::vector<CrackSpeedRun> crack_speed;
   for (const std::string specimen : {"bar", "beam"}) {
     if (!config.full && specimen == "beam") continue;
@@ -306,8 +311,10 @@ std::vector<SweepRow> run_sweep(const SweepConfig& config, std::ostream& log) {
     for (CrackSpeedRun& r : run_crack_speed_study(o, log, config.limits)) crack_speed.push_back(std::move(r));
   }
   write_crack_speed(config.out_dir, crack_speed, config.charts);
+}
 
-  // Pareto flags per benchmark.
+// Pareto flags per benchmark (error against cost).
+void mark_pareto(const std::vector<AccuracyBenchmark>& benchmarks, std::vector<SweepRow>& rows) {
   for (const auto& b : benchmarks) {
     std::vector<size_t> idx;
     std::vector<double> cost, error;
@@ -320,7 +327,10 @@ std::vector<SweepRow> run_sweep(const SweepConfig& config, std::ostream& log) {
     const auto front = charts::pareto_front(cost, error);
     for (size_t k = 0; k < idx.size(); ++k) rows[idx[k]].pareto = front[k];
   }
+}
 
+void write_sweep_csv(const fs::path& out_dir, const std::vector<AccuracyBenchmark>& benchmarks,
+                     const std::vector<SweepRow>& rows) {
   charts::CsvTable sweep{{"benchmark", "series", "cells", "h", "points", "layers", "cfl", "transfer", "steps",
                           "quadrature_points", "simulated_seconds", "wall_seconds", "cost", "cost_unit", "measured",
                           "reference", "error", "pareto"},
@@ -333,16 +343,25 @@ std::vector<SweepRow> run_sweep(const SweepConfig& config, std::ostream& log) {
                charts::number(r.m.wall_seconds), charts::number(r.m.cost), b.cost_unit, charts::number(r.m.measured),
                charts::number(r.m.reference), charts::number(r.m.error), r.pareto ? "1" : "0"});
   }
-  charts::write_csv(config.out_dir / "sweep.csv", sweep);
+  charts::write_csv(out_dir / "sweep.csv", sweep);
+}
 
-  // Convergence orders: one least-squares fit per series that spans at least two resolutions.
+// Per benchmark, the series to chart against cost and, for series over two or more resolutions, against
+// cell size with their convergence fits.
+struct BenchmarkCharts {
+  std::vector<charts::Series> by_cost, by_resolution;
+  std::vector<charts::ConvergenceFit> fits;
+};
+
+// Convergence orders (one least-squares fit per series that spans at least two resolutions), written to
+// convergence.csv, and the chart series per benchmark.
+std::map<std::string, BenchmarkCharts> fit_convergence(const fs::path& out_dir,
+                                                       const std::vector<AccuracyBenchmark>& benchmarks,
+                                                       const std::vector<SweepRow>& rows) {
   charts::CsvTable convergence{{"benchmark", "series", "points_used", "order", "log_constant"}, {}};
-  struct Chart {
-    std::vector<charts::Series> series;
-    std::vector<charts::ConvergenceFit> fits;
-  };
-  std::map<std::string, Chart> resolution, cost;
+  std::map<std::string, BenchmarkCharts> out;
   for (const auto& b : benchmarks) {
+    BenchmarkCharts& c = out[b.name];
     std::vector<std::string> names;
     for (const auto& r : rows)
       if (r.benchmark == b.name && std::find(names.begin(), names.end(), r.series) == names.end())
@@ -358,23 +377,30 @@ std::vector<SweepRow> run_sweep(const SweepConfig& config, std::ostream& log) {
           by_cost.y.push_back(r.m.error);
           cells.insert(r.d.cells);
         }
-      cost[b.name].series.push_back(by_cost);
+      c.by_cost.push_back(by_cost);
       if (cells.size() < 2) continue;
       const auto fit = charts::fit_convergence_order(by_h.x, by_h.y);
       convergence.add({b.name, name, std::to_string(fit.points), charts::number(fit.order),
                        charts::number(fit.log_constant)});
-      resolution[b.name].series.push_back(by_h);
-      resolution[b.name].fits.push_back(fit);
+      c.by_resolution.push_back(by_h);
+      c.fits.push_back(fit);
     }
   }
-  charts::write_csv(config.out_dir / "convergence.csv", convergence);
+  charts::write_csv(out_dir / "convergence.csv", convergence);
+  return out;
+}
 
-  // Stage breakdown of the most resolved default tearing run (thesis Fig. 4.28).
+// The most resolved default tearing run, whose stage breakdown is charted (thesis Fig. 4.28); null if none.
+const SweepRow* stage_breakdown_run(const std::vector<SweepRow>& rows) {
   const SweepRow* tear = nullptr;
   for (const auto& r : rows)
     if (r.benchmark == "tear-area" && r.d.points == 4 && r.d.layers == 3 && r.d.cfl == 0.5 && !r.d.apic &&
         (!tear || r.d.cells > tear->d.cells))
       tear = &r;
+  return tear;
+}
+
+void write_stages_csv(const fs::path& out_dir, const SweepRow* tear) {
   charts::CsvTable stages{{"stage", "seconds", "share"}, {}};
   if (tear) {
     double total_seconds = 0;
@@ -382,25 +408,39 @@ std::vector<SweepRow> run_sweep(const SweepConfig& config, std::ostream& log) {
     for (const auto& s : tear->m.stage_seconds)
       stages.add({s.first, charts::number(s.second), charts::number(total_seconds > 0 ? s.second / total_seconds : 0)});
   }
-  charts::write_csv(config.out_dir / "stages.csv", stages);
+  charts::write_csv(out_dir / "stages.csv", stages);
+}
 
-  if (config.charts) {
-    for (const auto& b : benchmarks) {
-      charts::error_vs_cost_chart(config.out_dir / (b.name + "-error-vs-time.png"),
-                                  b.name + ": error against cost (circles: Pareto front)", b.cost_unit,
-                                  cost[b.name].series);
-      if (!resolution[b.name].series.empty())
-        charts::error_vs_resolution_chart(config.out_dir / (b.name + "-error-vs-resolution.png"),
-                                          b.name + ": error against cell size", resolution[b.name].series,
-                                          resolution[b.name].fits);
-    }
-    if (tear)
-      charts::stage_breakdown_chart(config.out_dir / "tear-stage-breakdown.png",
-                                    "tear-area, " + std::to_string(tear->d.cells) + " x " +
-                                        std::to_string(tear->d.cells) + " cells, " +
-                                        std::to_string(tear->m.steps) + " steps: wall seconds per stage",
-                                    tear->m.stage_seconds);
+void draw_sweep_charts(const fs::path& out_dir, const std::vector<AccuracyBenchmark>& benchmarks,
+                       std::map<std::string, BenchmarkCharts>& chart, const SweepRow* tear) {
+  for (const auto& b : benchmarks) {
+    const BenchmarkCharts& c = chart[b.name];
+    charts::error_vs_cost_chart(out_dir / (b.name + "-error-vs-time.png"),
+                                b.name + ": error against cost (circles: Pareto front)", b.cost_unit, c.by_cost);
+    if (!c.by_resolution.empty())
+      charts::error_vs_resolution_chart(out_dir / (b.name + "-error-vs-resolution.png"),
+                                        b.name + ": error against cell size", c.by_resolution, c.fits);
   }
+  if (tear)
+    charts::stage_breakdown_chart(out_dir / "tear-stage-breakdown.png",
+                                  "tear-area, " + std::to_string(tear->d.cells) + " x " + std::to_string(tear->d.cells) +
+                                      " cells, " + std::to_string(tear->m.steps) + " steps: wall seconds per stage",
+                                  tear->m.stage_seconds);
+}
+
+}  // namespace
+
+std::vector<SweepRow> run_sweep(const SweepConfig& config, std::ostream& log) {
+  fs::create_directories(config.out_dir);
+  const auto benchmarks = accuracy_benchmarks(config.full, config.limits);
+  std::vector<SweepRow> rows = run_plans(benchmarks, config, log);
+  run_crack_speed(config, log);
+  mark_pareto(benchmarks, rows);
+  write_sweep_csv(config.out_dir, benchmarks, rows);
+  std::map<std::string, BenchmarkCharts> chart = fit_convergence(config.out_dir, benchmarks, rows);
+  const SweepRow* tear = stage_breakdown_run(rows);
+  write_stages_csv(config.out_dir, tear);
+  if (config.charts) draw_sweep_charts(config.out_dir, benchmarks, chart, tear);
   return rows;
 }
 
