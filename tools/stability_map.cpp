@@ -310,59 +310,58 @@ void add_solid_cases(bool full, std::vector<StabilityCase>& cases) {
   cases.push_back(solid_case("beam", "NACC", bench_scenes::notched_beam("nacc")));
 }
 
-}  // namespace
+// Time-step variants relative to the elastic-wave bound (time.cfl = 1 so that dt is the factor times
+// the bound); past the bound the check is switched off, and once left on to show the refusal.
+void add_dt_variants(const StabilityCase& base, const RunLimits& limits, std::vector<StabilityCase>& cases) {
+  check_limits(base.definition, base.end, limits);  // the bound needs the built scene
+  const double bound = sim::Simulation(base.definition).elastic_wave_bound();
+  for (double f : {0.5, 1.0, 2.0, 4.0}) {
+    StabilityCase c = base;
+    char name[48];
+    std::snprintf(name, sizeof name, "dt %gx bound", f);
+    c.variant = name;
+    c.dt_factor = f;
+    c.definition.time.cfl = 1.0;
+    c.definition.time.dt = f * bound;
+    if (f > 1) c.definition.time.enforce_stability_bound = false;
+    cases.push_back(c);
+  }
+  StabilityCase refused = base;
+  refused.variant = "dt 2x bound (check on)";
+  refused.dt_factor = 2.0;
+  refused.definition.time.cfl = 1.0;
+  refused.definition.time.dt = 2.0 * bound;
+  cases.push_back(refused);
+}
 
-std::vector<StabilityCase> stability_cases(bool full, const RunLimits& limits) {
-  std::vector<StabilityCase> cases;
-  // Time-step variants relative to the elastic-wave bound (time.cfl = 1 so that dt is the factor times
-  // the bound); past the bound the check is switched off, and once left on to show the refusal.
-  auto add_dt_variants = [&](const StabilityCase& base) {
-    check_limits(base.definition, base.end, limits);  // the bound needs the built scene
-    const double bound = sim::Simulation(base.definition).elastic_wave_bound();
-    for (double f : {0.5, 1.0, 2.0, 4.0}) {
-      StabilityCase c = base;
-      char name[48];
-      std::snprintf(name, sizeof name, "dt %gx bound", f);
-      c.variant = name;
-      c.dt_factor = f;
-      c.definition.time.cfl = 1.0;
-      c.definition.time.dt = f * bound;
-      if (f > 1) c.definition.time.enforce_stability_bound = false;
-      cases.push_back(c);
-    }
-    StabilityCase refused = base;
-    refused.variant = "dt 2x bound (check on)";
-    refused.dt_factor = 2.0;
-    refused.definition.time.cfl = 1.0;
-    refused.definition.time.dt = 2.0 * bound;
-    cases.push_back(refused);
-  };
-  auto add_stress_variants = [&](const StabilityCase& base) {
-    for (const char* model : {"2d_f", "plane_strain"}) {
-      StabilityCase c = base;
-      c.variant = std::string("stress ") + model;
-      for (scene::Shell& shell : c.definition.shells) shell.material->stress_model = model;
-      cases.push_back(c);
-    }
-  };
+void add_stress_variants(const StabilityCase& base, std::vector<StabilityCase>& cases) {
+  for (const char* model : {"2d_f", "plane_strain"}) {
+    StabilityCase c = base;
+    c.variant = std::string("stress ") + model;
+    for (scene::Shell& shell : c.definition.shells) shell.material->stress_model = model;
+    cases.push_back(c);
+  }
+}
 
-  // The bench scenes fix "pic"; the adaptive transfer (the product's default, under which a shell that can
-  // crack turns to PIC once damaged), the same with the adaptive shares kept on cracking shells
-  // (cracking_shells "adaptive"), and APIC beside them.
-  auto add_transfer_variants = [&](const StabilityCase& base, bool can_crack) {
-    for (const std::string transfer : {"adaptive", "apic"}) {
-      StabilityCase c = base;
-      c.variant = "transfer " + transfer;
-      c.definition.grid.transfer = transfer;
-      if (can_crack && transfer == "adaptive") {
-        c.definition.grid.cracking_shells = std::string("adaptive");
-        c.variant += ", cracking too";
-      }
-      cases.push_back(c);
+// The bench scenes fix "pic"; the adaptive transfer (the product's default, under which a shell that can
+// crack turns to PIC once damaged), the same with the adaptive shares kept on cracking shells
+// (cracking_shells "adaptive"), and APIC beside them.
+void add_transfer_variants(const StabilityCase& base, bool can_crack, std::vector<StabilityCase>& cases) {
+  for (const std::string transfer : {"adaptive", "apic"}) {
+    StabilityCase c = base;
+    c.variant = "transfer " + transfer;
+    c.definition.grid.transfer = transfer;
+    if (can_crack && transfer == "adaptive") {
+      c.definition.grid.cracking_shells = std::string("adaptive");
+      c.variant += ", cracking too";
     }
-  };
-  // Tearing: the mode-I tear (16 x 16 cells, torn through by 1.2 s); tiny: 12 x 12 cells for 0.05 s, long
-  // before the tear, so no fragments are expected.
+    cases.push_back(c);
+  }
+}
+
+// Tearing: the mode-I tear (16 x 16 cells, torn through by 1.2 s); tiny: 12 x 12 cells for 0.05 s, long
+// before the tear, so no fragments are expected.
+void add_tear_cases(bool full, const RunLimits& limits, std::vector<StabilityCase>& cases) {
   StabilityCase tear;
   tear.scene = "tear";
   tear.variant = "default";
@@ -371,26 +370,26 @@ std::vector<StabilityCase> stability_cases(bool full, const RunLimits& limits) {
   tear.expected_fragments = full ? 2 : 1;
   tear.reference_area = 1.0;
   cases.push_back(tear);
-  add_stress_variants(tear);
-  {
-    StabilityCase c = tear;
-    c.variant = "damage monotone";
-    c.definition.shells[0].material->fracture->damage_rule = "monotone";
-    cases.push_back(c);
-    c = tear;
-    c.variant = "single velocity field";
-    c.definition.cracks.phantom_nodes = false;
-    cases.push_back(c);
-    // Selective mass scaling beside the cut: the step of the uncut sheet, or nearly, for 1 % added mass.
-    c = tear;
-    c.variant = "mass scaling 1%";
-    c.definition.cracks.mass_scaling = 0.01;
-    cases.push_back(c);
-  }
-  add_transfer_variants(tear, true);
-  add_dt_variants(tear);
+  add_stress_variants(tear, cases);
+  StabilityCase c = tear;
+  c.variant = "damage monotone";
+  c.definition.shells[0].material->fracture->damage_rule = "monotone";
+  cases.push_back(c);
+  c = tear;
+  c.variant = "single velocity field";
+  c.definition.cracks.phantom_nodes = false;
+  cases.push_back(c);
+  // Selective mass scaling beside the cut: the step of the uncut sheet, or nearly, for 1 % added mass.
+  c = tear;
+  c.variant = "mass scaling 1%";
+  c.definition.cracks.mass_scaling = 0.01;
+  cases.push_back(c);
+  add_transfer_variants(tear, true, cases);
+  add_dt_variants(tear, limits, cases);
+}
 
-  // Draping: the two-patch cloth coupled C1 on a ball (8 cells along the seam on the coarse side).
+// Draping: the two-patch cloth coupled C1 on a ball (8 cells along the seam on the coarse side).
+void add_drape_cases(bool full, const RunLimits& limits, std::vector<StabilityCase>& cases) {
   StabilityCase drape;
   drape.scene = "drape";
   drape.variant = "default";
@@ -399,24 +398,131 @@ std::vector<StabilityCase> stability_cases(bool full, const RunLimits& limits) {
   drape.reference_area = 1.0;
   drape.seam = true;
   cases.push_back(drape);
-  add_stress_variants(drape);
-  {
-    StabilityCase c = drape;
-    c.variant = "uncoupled";
-    c.definition.interfaces.clear();
-    cases.push_back(c);
-    c = drape;
-    c.variant = "C1 without momentum correction";
-    c.definition.interfaces[0].momentum_correction = false;
-    cases.push_back(c);
-    // The default seam closes exactly; the thesis's least-squares Eq. 4.29 beside it.
-    c = drape;
-    c.variant = "C1 least-squares closure";
-    c.definition.interfaces[0].closure = std::string("least_squares");
-    cases.push_back(c);
+  add_stress_variants(drape, cases);
+  StabilityCase c = drape;
+  c.variant = "uncoupled";
+  c.definition.interfaces.clear();
+  cases.push_back(c);
+  c = drape;
+  c.variant = "C1 without momentum correction";
+  c.definition.interfaces[0].momentum_correction = false;
+  cases.push_back(c);
+  // The default seam closes exactly; the thesis's least-squares Eq. 4.29 beside it.
+  c = drape;
+  c.variant = "C1 least-squares closure";
+  c.definition.interfaces[0].closure = std::string("least_squares");
+  cases.push_back(c);
+  add_transfer_variants(drape, false, cases);
+  add_dt_variants(drape, limits, cases);
+}
+
+void write_stability_csv(const fs::path& path, const std::vector<StabilityResult>& results) {
+  charts::CsvTable csv{{"scene", "variant", "outcome", "tripped_by", "measured", "threshold", "peak_kinetic",
+                        "reference_kinetic", "penetration_cells", "area_ratio", "fragments", "slivers", "separation_cells",
+                        "seam_angle_degrees", "steps", "dt", "bound", "dt_over_bound", "simulated_seconds",
+                        "wall_seconds", "detail"},
+                       {}};
+  for (const auto& r : results)
+    csv.add({r.scene, r.variant, outcome_name(r.outcome), r.tripped_by, charts::number(r.measured),
+             charts::number(r.threshold), charts::number(r.peak_kinetic), charts::number(r.reference_kinetic),
+             charts::number(r.penetration_cells), charts::number(r.area_ratio), std::to_string(r.fragments),
+             std::to_string(r.slivers),
+             charts::number(r.separation_cells), charts::number(r.seam_angle_degrees), std::to_string(r.steps),
+             charts::number(r.dt), charts::number(r.bound), charts::number(r.bound > 0 ? r.dt / r.bound : kNaN),
+             charts::number(r.simulated_seconds), charts::number(r.wall_seconds), r.detail});
+  charts::write_csv(path, csv);
+}
+
+void print_stability_table(const std::vector<StabilityResult>& results, std::ostream& table) {
+  table << std::left << std::setw(7) << "scene" << std::setw(32) << "variant" << std::setw(16) << "outcome"
+        << "tripped by (measured vs threshold)\n";
+  for (const auto& r : results) {
+    table << std::left << std::setw(7) << r.scene << std::setw(32) << r.variant << std::setw(16)
+          << outcome_name(r.outcome);
+    if (r.outcome != Outcome::completed)
+      table << r.tripped_by << " = " << charts::number(r.measured) << " (threshold " << charts::number(r.threshold)
+            << ")";
+    else if (std::isnan(r.area_ratio))  // a solid
+      table << r.fragments << " fragments, " << r.slivers << " slivers";
+    else
+      table << "area " << charts::number(r.area_ratio) << ", penetration " << charts::number(r.penetration_cells)
+            << " cells";
+    table << "\n";
   }
-  add_transfer_variants(drape, false);
-  add_dt_variants(drape);
+}
+
+unsigned outcome_colour(Outcome o) {
+  switch (o) {
+    case Outcome::completed: return 0x66bb6a;
+    case Outcome::refused: return 0x64b5f6;
+    case Outcome::nan: return 0xe53935;
+    case Outcome::energy_blowup: return 0xff7043;
+    case Outcome::penetration: return 0xab47bc;
+    case Outcome::area_loss:
+    case Outcome::area_gain: return 0xffca28;
+    case Outcome::glued: return 0xa1887f;
+    case Outcome::shattered: return 0x26c6da;
+    case Outcome::crease: return 0xf48fb1;
+  }
+  return 0x66bb6a;
+}
+
+// The measured value a map cell shows after the outcome's name.
+std::string outcome_value(const StabilityResult& r) {
+  char value[96] = "";
+  switch (r.outcome) {
+    case Outcome::completed:
+      if (std::isnan(r.area_ratio))  // a solid: no render mesh
+        std::snprintf(value, sizeof value, " (%d pieces)", r.fragments);
+      else
+        std::snprintf(value, sizeof value, " (area %.3f)", r.area_ratio);
+      break;
+    case Outcome::refused: std::snprintf(value, sizeof value, ": dt %gx bound", r.measured); break;
+    case Outcome::nan: std::snprintf(value, sizeof value, " at step %ld", r.steps); break;
+    case Outcome::energy_blowup: std::snprintf(value, sizeof value, ": KE %.3gx peak", r.measured); break;
+    case Outcome::penetration: std::snprintf(value, sizeof value, ": %.2f cells", r.measured); break;
+    case Outcome::area_loss:
+    case Outcome::area_gain: std::snprintf(value, sizeof value, ": area %.3f", r.measured); break;
+    case Outcome::glued:
+      if (r.tripped_by.find("fragments") != std::string::npos)
+        std::snprintf(value, sizeof value, ": %d piece(s), %g expected", r.fragments, r.threshold);
+      else
+        std::snprintf(value, sizeof value, ": gap %.2g cells", r.measured);
+      break;
+    case Outcome::shattered:
+      std::snprintf(value, sizeof value, ": %d pieces, %g expected", r.fragments, r.threshold);
+      break;
+    case Outcome::crease: std::snprintf(value, sizeof value, ": %.3g deg", r.measured); break;
+  }
+  return value;
+}
+
+// The map: one row per variant, one column per scene, each cell coloured by its outcome.
+void draw_stability_map(const fs::path& path, bool full, const std::vector<StabilityResult>& results) {
+  std::vector<std::string> rows, columns;
+  for (const auto& r : results) {
+    if (std::find(rows.begin(), rows.end(), r.variant) == rows.end()) rows.push_back(r.variant);
+    if (std::find(columns.begin(), columns.end(), r.scene) == columns.end()) columns.push_back(r.scene);
+  }
+  std::vector<std::vector<charts::ColouredCell>> cells(rows.size(), std::vector<charts::ColouredCell>(columns.size()));
+  for (const auto& r : results) {
+    const size_t i = static_cast<size_t>(std::find(rows.begin(), rows.end(), r.variant) - rows.begin());
+    const size_t j = static_cast<size_t>(std::find(columns.begin(), columns.end(), r.scene) - columns.begin());
+    cells[i][j] = {std::string(outcome_name(r.outcome)) + outcome_value(r), outcome_colour(r.outcome)};
+  }
+  charts::coloured_table_chart(path,
+                               std::string("stability map (") + (full ? "full" : "tiny") +
+                                   "). Limits: KE 10x peak, penetration 0.5 cell, area 5%, gap 0.5 cell, "
+                                   "crease 10 deg",
+                               rows, columns, cells);
+}
+
+}  // namespace
+
+std::vector<StabilityCase> stability_cases(bool full, const RunLimits& limits) {
+  std::vector<StabilityCase> cases;
+  add_tear_cases(full, limits, cases);
+  add_drape_cases(full, limits, cases);
   add_solid_cases(full, cases);
   return cases;
 }
@@ -443,94 +549,9 @@ std::vector<StabilityResult> run_stability_map(const StabilityConfig& config, st
   }
   progress.finish(std::to_string(results.size()) + " runs");
 
-  charts::CsvTable csv{{"scene", "variant", "outcome", "tripped_by", "measured", "threshold", "peak_kinetic",
-                        "reference_kinetic", "penetration_cells", "area_ratio", "fragments", "slivers", "separation_cells",
-                        "seam_angle_degrees", "steps", "dt", "bound", "dt_over_bound", "simulated_seconds",
-                        "wall_seconds", "detail"},
-                       {}};
-  for (const auto& r : results)
-    csv.add({r.scene, r.variant, outcome_name(r.outcome), r.tripped_by, charts::number(r.measured),
-             charts::number(r.threshold), charts::number(r.peak_kinetic), charts::number(r.reference_kinetic),
-             charts::number(r.penetration_cells), charts::number(r.area_ratio), std::to_string(r.fragments),
-             std::to_string(r.slivers),
-             charts::number(r.separation_cells), charts::number(r.seam_angle_degrees), std::to_string(r.steps),
-             charts::number(r.dt), charts::number(r.bound), charts::number(r.bound > 0 ? r.dt / r.bound : kNaN),
-             charts::number(r.simulated_seconds), charts::number(r.wall_seconds), r.detail});
-  charts::write_csv(config.out_dir / "stability.csv", csv);
-
-  // Printed table.
-  table << std::left << std::setw(7) << "scene" << std::setw(32) << "variant" << std::setw(16) << "outcome"
-        << "tripped by (measured vs threshold)\n";
-  for (const auto& r : results) {
-    table << std::left << std::setw(7) << r.scene << std::setw(32) << r.variant << std::setw(16)
-          << outcome_name(r.outcome);
-    if (r.outcome != Outcome::completed)
-      table << r.tripped_by << " = " << charts::number(r.measured) << " (threshold " << charts::number(r.threshold)
-            << ")";
-    else if (std::isnan(r.area_ratio))  // a solid
-      table << r.fragments << " fragments, " << r.slivers << " slivers";
-    else
-      table << "area " << charts::number(r.area_ratio) << ", penetration " << charts::number(r.penetration_cells)
-            << " cells";
-    table << "\n";
-  }
-
-  if (config.charts) {
-    std::vector<std::string> rows, columns;
-    for (const auto& r : results) {
-      if (std::find(rows.begin(), rows.end(), r.variant) == rows.end()) rows.push_back(r.variant);
-      if (std::find(columns.begin(), columns.end(), r.scene) == columns.end()) columns.push_back(r.scene);
-    }
-    std::vector<std::vector<charts::ColouredCell>> cells(rows.size(), std::vector<charts::ColouredCell>(columns.size()));
-    for (const auto& r : results) {
-      const size_t i = static_cast<size_t>(std::find(rows.begin(), rows.end(), r.variant) - rows.begin());
-      const size_t j = static_cast<size_t>(std::find(columns.begin(), columns.end(), r.scene) - columns.begin());
-      unsigned colour = 0x66bb6a;
-      switch (r.outcome) {
-        case Outcome::completed: colour = 0x66bb6a; break;
-        case Outcome::refused: colour = 0x64b5f6; break;
-        case Outcome::nan: colour = 0xe53935; break;
-        case Outcome::energy_blowup: colour = 0xff7043; break;
-        case Outcome::penetration: colour = 0xab47bc; break;
-        case Outcome::area_loss:
-        case Outcome::area_gain: colour = 0xffca28; break;
-        case Outcome::glued: colour = 0xa1887f; break;
-        case Outcome::shattered: colour = 0x26c6da; break;
-        case Outcome::crease: colour = 0xf48fb1; break;
-      }
-      char value[96];
-      switch (r.outcome) {
-        case Outcome::completed:
-          if (std::isnan(r.area_ratio))  // a solid: no render mesh
-            std::snprintf(value, sizeof value, " (%d pieces)", r.fragments);
-          else
-            std::snprintf(value, sizeof value, " (area %.3f)", r.area_ratio);
-          break;
-        case Outcome::refused: std::snprintf(value, sizeof value, ": dt %gx bound", r.measured); break;
-        case Outcome::nan: std::snprintf(value, sizeof value, " at step %ld", r.steps); break;
-        case Outcome::energy_blowup: std::snprintf(value, sizeof value, ": KE %.3gx peak", r.measured); break;
-        case Outcome::penetration: std::snprintf(value, sizeof value, ": %.2f cells", r.measured); break;
-        case Outcome::area_loss:
-        case Outcome::area_gain: std::snprintf(value, sizeof value, ": area %.3f", r.measured); break;
-        case Outcome::glued:
-          if (r.tripped_by.find("fragments") != std::string::npos)
-            std::snprintf(value, sizeof value, ": %d piece(s), %g expected", r.fragments, r.threshold);
-          else
-            std::snprintf(value, sizeof value, ": gap %.2g cells", r.measured);
-          break;
-        case Outcome::shattered:
-          std::snprintf(value, sizeof value, ": %d pieces, %g expected", r.fragments, r.threshold);
-          break;
-        case Outcome::crease: std::snprintf(value, sizeof value, ": %.3g deg", r.measured); break;
-      }
-      cells[i][j] = {std::string(outcome_name(r.outcome)) + value, colour};
-    }
-    charts::coloured_table_chart(config.out_dir / "stability-map.png",
-                                 std::string("stability map (") + (config.full ? "full" : "tiny") +
-                                     "). Limits: KE 10x peak, penetration 0.5 cell, area 5%, gap 0.5 cell, "
-                                     "crease 10 deg",
-                                 rows, columns, cells);
-  }
+  write_stability_csv(config.out_dir / "stability.csv", results);
+  print_stability_table(results, table);
+  if (config.charts) draw_stability_map(config.out_dir / "stability-map.png", config.full, results);
   return results;
 }
 
