@@ -128,14 +128,10 @@ void add_stencil_rows(const SparseGrid& grid, const std::vector<ParticleSet>& se
   }
 }
 
-}  // namespace
-
-PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<ParticleSet>& sets,
-                              const std::vector<PartitionRole>& roles, const Connectivity& connected,
-                              const GroupConnectivity& one_component, PartitionMemo* memo) {
-  PhantomLayout layout;
-  // 1. Nodes reached by near-crack particles, listed in index order (the slot order).
-  NodeSlots node_slot(grid.num_blocks());
+// Step 1: the nodes reached by near-crack particles, in index order (the slot order); node_slot gets
+// slot + 1 for each.
+std::vector<uint32_t> flag_nodes(const SparseGrid& grid, const std::vector<ParticleSet>& sets,
+                                 const std::vector<PartitionRole>& roles, NodeSlots& node_slot) {
   std::vector<uint32_t> slot_node;
   for (size_t s = 0; s < sets.size() && s < roles.size(); ++s) {
     if (!roles[s].near_crack) continue;
@@ -149,32 +145,39 @@ PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<Particle
           }
         }
   }
-  if (slot_node.empty()) {
-    if (memo) memo->clear();
-    return layout;
-  }
   std::sort(slot_node.begin(), slot_node.end());
   for (size_t slot = 0; slot < slot_node.size(); ++slot) node_slot.entry(slot_node[slot]) = static_cast<uint32_t>(slot + 1);
+  return slot_node;
+}
 
-  // 2. Every (node, particle) pair at a flagged node, bucketed by node with a counting sort (particles in
-  //    (set, index) order inside a node): deterministic, O(pairs). Only particles binned next to the
-  //    flagged nodes' blocks can reach them, so only those are looked at; their stencils come from the
-  //    grid's per-particle cache (filled by rebuild).
-  std::vector<uint64_t> memo_near;  // the particles near the flagged nodes, for the memo
-  std::vector<uint32_t> blocks(slot_node.size());
-  for (size_t slot = 0; slot < slot_node.size(); ++slot) blocks[slot] = static_cast<uint32_t>(slot_node[slot] / SparseGrid::kBlockNodes);
-  blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());  // slot_node is sorted, so are its blocks
-  std::vector<uint64_t> touching = grid.particles_near_blocks(blocks);
-  if (memo) memo_near = touching;
+// Step 2's result: every (node, particle) pair at a flagged node, bucketed by node (pairs of slot s at
+// slot_count[s] .. slot_count[s + 1]); the flagged nodes' blocks and the particles binned next to them.
+struct NodePairs {
+  std::vector<NodeParticle> pairs;
+  std::vector<uint32_t> slot_count;
+  std::vector<uint32_t> blocks;
+  std::vector<uint64_t> near;
+};
+
+// Step 2: a counting sort by node (particles in (set, index) order inside a node): deterministic,
+// O(pairs). Only particles binned next to the flagged nodes' blocks can reach them, so only those are
+// looked at; their stencils come from the grid's per-particle cache (filled by rebuild).
+NodePairs bucket_pairs(const SparseGrid& grid, const std::vector<uint32_t>& slot_node, const NodeSlots& node_slot) {
+  NodePairs out;
+  out.blocks.resize(slot_node.size());
+  for (size_t slot = 0; slot < slot_node.size(); ++slot) out.blocks[slot] = static_cast<uint32_t>(slot_node[slot] / SparseGrid::kBlockNodes);
+  out.blocks.erase(std::unique(out.blocks.begin(), out.blocks.end()), out.blocks.end());  // slot_node is sorted
+  std::vector<uint64_t> touching = grid.particles_near_blocks(out.blocks);
+  out.near = touching;
   std::vector<uint32_t> reached(touching.size());  // per kept particle: bit k set when stencil entry k is flagged
-  std::vector<uint32_t> slot_count(slot_node.size() + 1, 0);
+  out.slot_count.assign(slot_node.size() + 1, 0);
   size_t kept = 0;
   for (const uint64_t sp : touching) {
     const uint32_t* st = grid.particle_stencil(sp >> 32, sp & 0xFFFFFFFFu);
     uint32_t bits = 0;
     for (uint32_t k = 0; k < 27; ++k)
       if (const uint32_t slot = node_slot[st[k]]) {
-        ++slot_count[slot];
+        ++out.slot_count[slot];
         bits |= 1u << k;
       }
     if (!bits) continue;
@@ -182,37 +185,26 @@ PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<Particle
     touching[kept++] = sp;
   }
   touching.resize(kept);
-  for (size_t k = 0; k + 1 < slot_count.size(); ++k) slot_count[k + 1] += slot_count[k];
-  std::vector<NodeParticle> pairs(slot_count.back());
-  {
-    std::vector<uint32_t> cursor(slot_count.begin(), slot_count.end() - 1);
-    for (size_t t = 0; t < touching.size(); ++t) {
-      const auto s = static_cast<uint32_t>(touching[t] >> 32), p = static_cast<uint32_t>(touching[t] & 0xFFFFFFFFu);
-      const uint32_t* st = grid.particle_stencil(s, p);
-      for (uint32_t bits = reached[t]; bits; bits &= bits - 1) {
-        const auto k = static_cast<uint32_t>(__builtin_ctz(bits));
-        pairs[cursor[node_slot[st[k]] - 1]++] = NodeParticle(st[k], s, p, k);
-      }
+  for (size_t k = 0; k + 1 < out.slot_count.size(); ++k) out.slot_count[k + 1] += out.slot_count[k];
+  out.pairs.resize(out.slot_count.back());
+  std::vector<uint32_t> cursor(out.slot_count.begin(), out.slot_count.end() - 1);
+  for (size_t t = 0; t < touching.size(); ++t) {
+    const auto s = static_cast<uint32_t>(touching[t] >> 32), p = static_cast<uint32_t>(touching[t] & 0xFFFFFFFFu);
+    const uint32_t* st = grid.particle_stencil(s, p);
+    for (uint32_t bits = reached[t]; bits; bits &= bits - 1) {
+      const auto k = static_cast<uint32_t>(__builtin_ctz(bits));
+      out.pairs[cursor[node_slot[st[k]] - 1]++] = NodeParticle(st[k], s, p, k);
     }
   }
+  return out;
+}
 
-  // 3. Components per node (in parallel: nodes are independent). component[i] numbers the components
-  //    of pair i's node by first member; a node with two or more gets one copy per component. A node
-  //    whose particle list the memo knows takes the components found for it before.
-  std::vector<int32_t> component(pairs.size(), 0);
-  std::vector<int32_t> components(slot_node.size(), 0);
-  std::vector<uint64_t> keys(memo ? pairs.size() : 0), hashes(memo ? slot_node.size() : 0);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, slot_node.size(), 8), [&](const tbb::blocked_range<size_t>& r) {
-    ComponentScratch scratch;
-    for (size_t slot = r.begin(); slot != r.end(); ++slot) {
-      const size_t begin = slot_count[slot];
-      const int n = static_cast<int>(slot_count[slot + 1] - begin);
-      components[slot] = node_components(pairs, begin, n, connected, one_component, memo, memo ? &keys[begin] : nullptr,
-                                         memo ? &hashes[slot] : nullptr, &component[begin], scratch);
-    }
-  });
-  if (memo) memo->store_nodes(std::move(keys), component, slot_count, components, hashes);
-  std::vector<int32_t> pair_copy(pairs.size(), -1);
+// Step 4: one copy per component of every node with two or more; per pair, the copy its particle uses
+// (-1: the node itself).
+std::vector<int32_t> assign_copies(const std::vector<uint32_t>& slot_node, const NodePairs& np,
+                                   const std::vector<int32_t>& components, const std::vector<int32_t>& component,
+                                   const std::vector<PartitionRole>& roles, PhantomLayout& layout) {
+  std::vector<int32_t> pair_copy(np.pairs.size(), -1);
   for (size_t slot = 0; slot < slot_node.size(); ++slot) {
     if (components[slot] < 2) continue;
     ++layout.split_nodes;
@@ -221,20 +213,50 @@ PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<Particle
       layout.copy_parent.push_back(slot_node[slot]);
       layout.copy_kind.push_back(FieldKind::Shell);
     }
-    for (size_t i = slot_count[slot]; i < slot_count[slot + 1]; ++i) {
+    for (size_t i = np.slot_count[slot]; i < np.slot_count[slot + 1]; ++i) {
       pair_copy[i] = first_copy + component[i];
-      const uint32_t set = pairs[i].set;
+      const uint32_t set = np.pairs[i].set;
       layout.copy_kind[static_cast<size_t>(pair_copy[i])] = set < roles.size() ? roles[set].kind : FieldKind::Shell;
     }
   }
-  if (layout.copy_parent.empty()) {
-    if (memo) memo->store_inputs(grid, std::move(blocks), memo_near);
+  return pair_copy;
+}
+
+}  // namespace
+
+PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<ParticleSet>& sets,
+                              const std::vector<PartitionRole>& roles, const Connectivity& connected,
+                              const GroupConnectivity& one_component, PartitionMemo* memo) {
+  PhantomLayout layout;
+  NodeSlots node_slot(grid.num_blocks());
+  const std::vector<uint32_t> slot_node = flag_nodes(grid, sets, roles, node_slot);
+  if (slot_node.empty()) {
+    if (memo) memo->clear();
     return layout;
   }
+  NodePairs np = bucket_pairs(grid, slot_node, node_slot);
 
-  // 4. Stencil rows for the particles that use a copy.
-  add_stencil_rows(grid, sets, pairs, pair_copy, layout);
-  if (memo) memo->store_inputs(grid, std::move(blocks), memo_near);
+  // 3. Components per node (in parallel: nodes are independent). component[i] numbers the components
+  //    of pair i's node by first member; a node with two or more gets one copy per component. A node
+  //    whose particle list the memo knows takes the components found for it before.
+  std::vector<int32_t> component(np.pairs.size(), 0);
+  std::vector<int32_t> components(slot_node.size(), 0);
+  std::vector<uint64_t> keys(memo ? np.pairs.size() : 0), hashes(memo ? slot_node.size() : 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, slot_node.size(), 8), [&](const tbb::blocked_range<size_t>& r) {
+    ComponentScratch scratch;
+    for (size_t slot = r.begin(); slot != r.end(); ++slot) {
+      const size_t begin = np.slot_count[slot];
+      const int n = static_cast<int>(np.slot_count[slot + 1] - begin);
+      components[slot] = node_components(np.pairs, begin, n, connected, one_component, memo,
+                                         memo ? &keys[begin] : nullptr, memo ? &hashes[slot] : nullptr,
+                                         &component[begin], scratch);
+    }
+  });
+  if (memo) memo->store_nodes(std::move(keys), component, np.slot_count, components, hashes);
+  const std::vector<int32_t> pair_copy = assign_copies(slot_node, np, components, component, roles, layout);
+  // 5. Stencil rows for the particles that use a copy.
+  if (!layout.copy_parent.empty()) add_stencil_rows(grid, sets, np.pairs, pair_copy, layout);
+  if (memo) memo->store_inputs(grid, std::move(np.blocks), np.near);
   return layout;
 }
 
