@@ -55,56 +55,42 @@ double box_reach(const Eigen::Vector2d& xi, const Eigen::Vector2d& p, const Cont
   return std::max(std::abs(p.x() - xi.x()) / grid.cell_u, std::abs(p.y() - xi.y()) / grid.cell_v);
 }
 
-}  // namespace
+// Tips that can matter: a control point seen around a tip farther than kTipBox supports (infinity norm,
+// cells / factor) gets weight 0 (docs/mls.md), so the basis depends on cracks within kTipBox * factor.
+constexpr double kTipBox = 1.5;
 
-PointFit fit_point_basis(const Eigen::Vector2d& xi_in, const ControlGrid& grid, const crack2d::CrackIndex& index,
-                         const crack2d::CrackPortals& portals, const BasisChainSettings& s, BasisChainWork& work) {
-  PointFit fit;
-  Eigen::Vector2d xi = xi_in;
-  if (index.crosses(xi, xi)) {
-    xi = nudge_off_crack(xi, grid, index, s);
-    fit.nudged = true;
-  }
-  fit.at = xi;
-  MlsBasis& b = work.basis;
-  auto visible = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& c) { return !index.crosses(a, c); };
-  auto done = [&](BasisLevel level, int order, double reach) {
-    fit.level = level;
-    fit.order = order;
-    fit.reach = reach;
-    return fit;
-  };
-
-  // Levels 1-3 see control points in straight lines; with diffraction tip weights also those hidden behind
-  // a crack that two straight hops around one free tip (or, with tip.corners, one reflex corner of a bend or
-  // junction) reach (docs/mls.md, "Tip weights"). `tips` holds the portals of those corners in sight.
-  const bool diffraction = s.mls.tip.mode == TipWeights::Mode::diffraction;
-  // Tips that can matter: a control point seen around a tip farther than kTipBox supports (infinity norm,
-  // cells / factor) gets weight 0 (docs/mls.md), so the basis depends on cracks within kTipBox * factor.
-  constexpr double kTipBox = 1.5;
-  std::vector<size_t>& tips = work.tips;
+// The portals of the corners in sight of xi within kTipBox supports: free tips, or with tip.corners
+// every reflex corner of a bend or junction.
+void tips_in_sight(const Eigen::Vector2d& xi, const ControlGrid& grid, const crack2d::CrackIndex& index,
+                   const crack2d::CrackPortals& portals, const BasisChainSettings& s, std::vector<size_t>& tips) {
   tips.clear();
-  if (diffraction) {
-    const double hu = kTipBox * s.mls.max_factor * grid.cell_u, hv = kTipBox * s.mls.max_factor * grid.cell_v;
-    const bool corners = s.mls.tip.corners;
-    const size_t n = corners ? portals.size() : portals.tips().size();
-    for (size_t t = 0; t < n; ++t) {
-      const size_t portal = corners ? t : portals.tip_portals()[t];
-      const Eigen::Vector2d& c = portals.corners()[portal];
-      if (std::abs(c.x() - xi.x()) > hu || std::abs(c.y() - xi.y()) > hv) continue;
-      if (index.crosses(xi, portals.points()[portal])) continue;  // the corner is not in sight
-      tips.push_back(portal);
-    }
+  const double hu = kTipBox * s.mls.max_factor * grid.cell_u, hv = kTipBox * s.mls.max_factor * grid.cell_v;
+  const bool corners = s.mls.tip.corners;
+  const size_t n = corners ? portals.size() : portals.tips().size();
+  for (size_t t = 0; t < n; ++t) {
+    const size_t portal = corners ? t : portals.tip_portals()[t];
+    const Eigen::Vector2d& c = portals.corners()[portal];
+    if (std::abs(c.x() - xi.x()) > hu || std::abs(c.y() - xi.y()) > hv) continue;
+    if (index.crosses(xi, portals.points()[portal])) continue;  // the corner is not in sight
+    tips.push_back(portal);
   }
-  const double lu = grid.cell_u, lv = grid.cell_v;
-  auto sight = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& c) {
+}
+
+// How a control point at c is seen from a: directly, or around one of `tips` by the shortest way (cell
+// units, measured through the crack vertex; the hops themselves are checked to the corner's portal, 1e-7
+// cells beyond it), or not at all.
+struct SightAroundTips {
+  const crack2d::CrackIndex& index;
+  const crack2d::CrackPortals& portals;
+  const std::vector<size_t>& tips;
+  double lu, lv;
+
+  Sight operator()(const Eigen::Vector2d& a, const Eigen::Vector2d& c) const {
     Sight out;
     if (!index.crosses(a, c)) {
       out.kind = Sight::Kind::direct;
       return out;
     }
-    // The shortest way around one corner (cell units), measured through the crack vertex; the hops
-    // themselves are checked to the corner's portal, 1e-7 cells beyond it.
     double best = std::numeric_limits<double>::infinity();
     for (size_t t : tips) {
       const Eigen::Vector2d& tip = portals.corners()[t];
@@ -117,75 +103,142 @@ PointFit fit_point_basis(const Eigen::Vector2d& xi_in, const ControlGrid& grid, 
       out.tip = tip;
     }
     return out;
-  };
+  }
+};
+
+// The linear fit's settings over supports of the chain's sizes: three points not in a line.
+MlsSettings linear_settings(const BasisChainSettings& s) {
+  MlsSettings linear = s.mls;
+  linear.order = 1;
+  linear.min_neighbours = 3;
+  linear.min_rcond = s.linear_min_rcond;
+  return linear;
+}
+
+// Levels 1-3: the control points seen in straight lines, and with diffraction tip weights also those two
+// straight hops around one corner in sight reach (docs/mls.md, "Tip weights"). False if none fits.
+bool fit_in_sight(const Eigen::Vector2d& xi, const ControlGrid& grid, const crack2d::CrackIndex& index,
+                  const crack2d::CrackPortals& portals, const BasisChainSettings& s, BasisChainWork& work,
+                  PointFit& fit) {
+  MlsBasis& b = work.basis;
+  const bool diffraction = s.mls.tip.mode == TipWeights::Mode::diffraction;
+  if (diffraction) tips_in_sight(xi, grid, index, portals, s, work.tips);
+  else work.tips.clear();
+  const SightAroundTips sight{index, portals, work.tips, grid.cell_u, grid.cell_v};
+  auto visible = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& c) { return !index.crosses(a, c); };
   auto fit_mls = [&](const MlsSettings& settings) {
     return diffraction ? mls_basis_with_sight(xi, grid, sight, settings, b) : mls_basis(xi, grid, visible, settings, b);
   };
   const double reach_scale = diffraction ? kTipBox : 1.0;
-
+  auto done = [&](BasisLevel level, int order) {
+    fit.level = level;
+    fit.order = order;
+    fit.reach = b.factor * reach_scale;
+    return true;
+  };
   // 1. The thesis's quadratic fit over the control points seen in straight lines (sec. 4.6).
-  if (fit_mls(s.mls)) return done(BasisLevel::Quadratic, 2, b.factor * reach_scale);
+  if (fit_mls(s.mls)) return done(BasisLevel::Quadratic, 2);
   fit.reason = b.reason;
   // 2. Relaxed: the quadratic basis size and a moment matrix merely far from singular.
   MlsSettings relaxed = s.mls;
   relaxed.min_neighbours = s.relaxed_min_neighbours;
   relaxed.min_rcond = std::min(s.mls.min_rcond, s.relaxed_min_rcond);
-  if (fit_mls(relaxed)) return done(BasisLevel::RelaxedQuadratic, 2, b.factor * reach_scale);
-  // 3. Linear over the same straight-line supports: three points not in a line.
-  MlsSettings linear = s.mls;
-  linear.order = 1;
-  linear.min_neighbours = 3;
-  linear.min_rcond = s.linear_min_rcond;
-  if (fit_mls(linear)) return done(BasisLevel::Linear, 1, b.factor * reach_scale);
+  if (fit_mls(relaxed)) return done(BasisLevel::RelaxedQuadratic, 2);
+  // 3. Linear over the same straight-line supports.
+  if (fit_mls(linear_settings(s))) return done(BasisLevel::Linear, 1);
+  return false;
+}
 
-  // 4. The own fragment along crack-free paths: first forward ones (bending only ahead of a crack corner
-  // and by at most 90 degrees in all: never reaching behind a crack), then any path over a longer reach.
+// Level 4: the own fragment along crack-free paths: first forward ones (bending only ahead of a crack
+// corner and by at most 90 degrees in all: never reaching behind a crack), then any path over a longer
+// reach. False if none fits.
+bool fit_along_fragment_paths(const Eigen::Vector2d& xi, const ControlGrid& grid, const crack2d::CrackIndex& index,
+                              const crack2d::CrackPortals& portals, const BasisChainSettings& s, BasisChainWork& work,
+                              PointFit& fit) {
   FragmentWork& fw = work.fragment;
   const double reaches[2] = {s.mls.max_factor, s.fragment_reach * s.mls.max_factor};
   for (int pass = 0; pass < 2; ++pass) {
     gather_along_paths(xi, grid, index, portals, reaches[pass], pass == 0, fw);
     MlsSettings quad = s.mls;
     quad.max_factor = reaches[pass];
-    if (fit_along_paths(xi, grid, fw.reached, quad, b)) return done(BasisLevel::Fragment, 2, reaches[pass]);
-    MlsSettings lin = linear;
+    MlsSettings lin = linear_settings(s);
     lin.max_factor = reaches[pass];
-    if (fit_along_paths(xi, grid, fw.reached, lin, b)) return done(BasisLevel::Fragment, 1, reaches[pass]);
+    for (int order : {2, 1})
+      if (fit_along_paths(xi, grid, fw.reached, order == 2 ? quad : lin, work.basis)) {
+        fit.level = BasisLevel::Fragment;
+        fit.order = order;
+        fit.reach = reaches[pass];
+        return true;
+      }
   }
+  return false;
+}
 
-  // 5. The whole fragment, however far. If it spans a plane, fit over all of it; otherwise it is a sliver.
+// The half-width in cells of the box holding the path nodes and control points the fragment search
+// reached: cracks are only ever added, so a fragment only loses control points, and only where a new
+// segment cuts one of those straight hops.
+double verdict_reach(const Eigen::Vector2d& xi, const ControlGrid& grid, const FragmentWork& fw) {
+  double r = 0.0;
+  for (size_t i = 0; i < fw.paths.num_settled(); ++i) r = std::max(r, box_reach(xi, fw.paths.settled_point(i), grid));
+  for (const ReachedPoint& p : fw.reached) r = std::max(r, box_reach(xi, grid.point(p.index), grid));
+  return r * (1.0 + 1e-9) + 1e-9;
+}
+
+// Level 5: the whole fragment, however far. If it spans a plane, a linear fit over all of it; otherwise
+// (or if that fails) rigid: the fragment's control points, equally weighted (a rigid translation with
+// their mean motion); removed if there are none.
+void fit_whole_fragment(const Eigen::Vector2d& xi, const ControlGrid& grid, const crack2d::CrackIndex& index,
+                        const crack2d::CrackPortals& portals, const BasisChainSettings& s, BasisChainWork& work,
+                        PointFit& fit) {
+  FragmentWork& fw = work.fragment;
+  MlsBasis& b = work.basis;
   const bool spans = reach_fragment(xi, grid, index, portals, true, fw);
-  // The verdict depends on the cracks inside the box holding the path nodes and control points reached:
-  // cracks are only ever added, so a fragment only loses control points, and only where a new segment
-  // cuts one of those straight hops.
-  auto verdict_reach = [&] {
-    double r = 0.0;
-    for (size_t i = 0; i < fw.paths.num_settled(); ++i) r = std::max(r, box_reach(xi, fw.paths.settled_point(i), grid));
-    for (const ReachedPoint& p : fw.reached) r = std::max(r, box_reach(xi, grid.point(p.index), grid));
-    return r * (1.0 + 1e-9) + 1e-9;
-  };
-  double reach = verdict_reach();
+  double reach = verdict_reach(xi, grid, fw);
   if (spans) {
     double longest = 0.0;
     for (const ReachedPoint& r : fw.reached) longest = std::max(longest, r.length);
     const double limit = 1.25 * longest + s.mls.initial_factor;
     gather_along_paths(xi, grid, index, portals, limit, false, fw);
-    MlsSettings lin = linear;
+    MlsSettings lin = linear_settings(s);
     lin.initial_factor = std::min(lin.initial_factor, limit);
     lin.max_factor = limit;
-    if (fit_along_paths(xi, grid, fw.reached, lin, b)) return done(BasisLevel::Fragment, 1, std::max(reach, limit));
+    if (fit_along_paths(xi, grid, fw.reached, lin, b)) {
+      fit.level = BasisLevel::Fragment;
+      fit.order = 1;
+      fit.reach = std::max(reach, limit);
+      return;
+    }
     fit.chain_failed = true;  // the fragment could carry a basis but no fit was accepted
     fit.reason += "; no fit over its fragment either: " + b.reason;
     reach_fragment(xi, grid, index, portals, false, fw);
-    reach = verdict_reach();
+    reach = verdict_reach(xi, grid, fw);
   }
-  // Rigid: the fragment's control points, equally weighted (a rigid translation with their mean motion).
   b.index.clear();
   for (const ReachedPoint& r : fw.reached) b.index.push_back(r.index);
   const size_t n = b.index.size();
   b.R.assign(n, n > 0 ? 1.0 / static_cast<double>(n) : 0.0);
   for (auto* a : {&b.R1, &b.R2, &b.R11, &b.R12, &b.R22}) a->assign(n, 0.0);
   b.ok = n > 0;
-  return done(n > 0 ? BasisLevel::Rigid : BasisLevel::Removed, 0, reach);
+  fit.level = n > 0 ? BasisLevel::Rigid : BasisLevel::Removed;
+  fit.order = 0;
+  fit.reach = reach;
+}
+
+}  // namespace
+
+PointFit fit_point_basis(const Eigen::Vector2d& xi_in, const ControlGrid& grid, const crack2d::CrackIndex& index,
+                         const crack2d::CrackPortals& portals, const BasisChainSettings& s, BasisChainWork& work) {
+  PointFit fit;
+  Eigen::Vector2d xi = xi_in;
+  if (index.crosses(xi, xi)) {
+    xi = nudge_off_crack(xi, grid, index, s);
+    fit.nudged = true;
+  }
+  fit.at = xi;
+  if (fit_in_sight(xi, grid, index, portals, s, work, fit)) return fit;
+  if (fit_along_fragment_paths(xi, grid, index, portals, s, work, fit)) return fit;
+  fit_whole_fragment(xi, grid, index, portals, s, work, fit);
+  return fit;
 }
 
 }  // namespace shellfrac::shell
