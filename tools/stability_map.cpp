@@ -128,6 +128,98 @@ void classify_solids(const sim::Simulation& sim, const StabilityCase& c, Stabili
     trip(r, Outcome::shattered, "fragments (slivers apart)", r.fragments, c.expected_fragments);
 }
 
+// Steps the case to its end, watching the kinetic energy against the reference peak (a blow-up ends the
+// run) and the collider penetration at 24 frames per second; a numerical failure is the `nan` outcome.
+void step_case(sim::Simulation& sim, const StabilityCase& c, double baseline_peak_kinetic, const StabilityThresholds& t,
+               const RunLimits& limits, StabilityResult& r) {
+  const double dx = sim.dx();
+  const double initial_until = t.initial_fraction * c.end;
+  double initial_peak = 0, next_frame = 1.0 / 24.0;
+  const double frame = 1.0 / c.definition.time.frame_rate.value_or(24.0);
+  const bool solids = !sim.brittle().empty();
+  try {
+    while (sim.time() < c.end - 1e-12 * std::max(1.0, c.end)) {
+      check_stop(limits, "bench stability (" + c.scene + " / " + c.variant + " at t = " + std::to_string(sim.time()) + " s)");
+      // Brittle solids step on their own grids and steps inside one step of the simulation: step it by
+      // frames so that stop requests are heard.
+      const double dt = std::min({sim.stable_dt(), c.end - sim.time(), frame});
+      sim.step(dt);
+      r.dt = std::max(r.dt, dt);
+      const double ke = sim.kinetic_energy();
+      if (!std::isfinite(ke))
+        throw core::NumericalError("non-finite kinetic energy at step " + std::to_string(sim.steps()));
+      if (solids) continue;  // their energy and penetration are the brittle solver's (it throws on inversion)
+      r.peak_kinetic = std::max(r.peak_kinetic, ke);
+      if (sim.time() <= initial_until) initial_peak = std::max(initial_peak, ke);
+      // During the first part of the run only the default variant's peak is a reference; afterwards the
+      // larger of it and this run's own initial peak.
+      r.reference_kinetic = sim.time() <= initial_until ? baseline_peak_kinetic
+                                                        : std::max(baseline_peak_kinetic, initial_peak);
+      if (r.reference_kinetic > 0 && ke > t.energy_factor * r.reference_kinetic) {
+        trip(r, Outcome::energy_blowup, "kinetic energy / reference peak", ke / r.reference_kinetic, t.energy_factor);
+        break;
+      }
+      if (sim.time() >= next_frame - 1e-12) {  // collider check at the frame rate, as `run` does
+        next_frame += 1.0 / 24.0;
+        const double pen = output::collider_penetration(sim, output::render_meshes(sim)) / dx;
+        r.penetration_cells = std::isnan(r.penetration_cells) ? pen : std::max(r.penetration_cells, pen);
+      }
+    }
+    if (solids) sim.finish_brittle();  // the fracture events of solids still running at the end
+  } catch (const core::NumericalError& e) {
+    trip(r, Outcome::nan, "step of failure", static_cast<double>(sim.steps()), 0);
+    r.detail = e.what();
+  }
+}
+
+// Steps, the largest step and the bound of the brittle solvers (dx over the P-wave speed: their cfl 1 at
+// rest), not of the frame loop that stepped the simulation.
+void brittle_steps(const sim::Simulation& sim, StabilityResult& r) {
+  r.steps = 0;
+  r.dt = 0;
+  r.bound = std::numeric_limits<double>::infinity();
+  for (size_t b = 0; b < sim.brittle().size(); ++b) {
+    const sim::BrittleSystem::Body& body = sim.brittle().body(b);
+    r.steps += static_cast<long>(body.solver->steps());
+    r.dt = std::max(r.dt, body.solver->dt());
+    r.bound = std::min(r.bound, body.solver->options().dx / body.solid->material.wave_speed());
+  }
+}
+
+// A shell run that completed: the last frame's penetration, area, fragments, their separation and the seam
+// angle, checked against the thresholds in that order.
+void classify_shells(const sim::Simulation& sim, const StabilityCase& c, const StabilityThresholds& t,
+                     StabilityResult& r) {
+  const double dx = sim.dx();
+  const auto meshes = output::render_meshes(sim);
+  const double pen = output::collider_penetration(sim, meshes) / dx;
+  r.penetration_cells = std::isnan(r.penetration_cells) ? pen : std::max(r.penetration_cells, pen);
+  double area = 0;
+  r.fragments = 0;
+  for (const auto& m : meshes) {
+    area += render_mesh::surface_area(m);
+    r.fragments += render_mesh::count_components(m);
+  }
+  r.area_ratio = c.reference_area > 0 ? area / c.reference_area : kNaN;
+  if (c.expected_fragments > 1) r.separation_cells = fragment_separation(meshes[0]) / dx;
+  if (c.seam) r.seam_angle_degrees = seam_angle_degrees(sim);
+
+  if (r.penetration_cells > t.penetration_cells)
+    trip(r, Outcome::penetration, "collider penetration [cells]", r.penetration_cells, t.penetration_cells);
+  else if (r.area_ratio < 1 - t.area_tolerance)
+    trip(r, Outcome::area_loss, "area / reference area", r.area_ratio, 1 - t.area_tolerance);
+  else if (r.area_ratio > 1 + t.area_tolerance)
+    trip(r, Outcome::area_gain, "area / reference area", r.area_ratio, 1 + t.area_tolerance);
+  else if (c.expected_fragments > 1 && r.fragments < c.expected_fragments)
+    trip(r, Outcome::glued, "render-mesh fragments", r.fragments, c.expected_fragments);
+  else if (c.expected_fragments > 1 && r.fragments > c.expected_fragments)
+    trip(r, Outcome::shattered, "render-mesh fragments", r.fragments, c.expected_fragments);
+  else if (c.expected_fragments > 1 && r.separation_cells < t.separation_cells)
+    trip(r, Outcome::glued, "fragment separation [cells]", r.separation_cells, t.separation_cells);
+  else if (c.seam && r.seam_angle_degrees > t.crease_degrees)
+    trip(r, Outcome::crease, "normal jump across the seam [deg]", r.seam_angle_degrees, t.crease_degrees);
+}
+
 }  // namespace
 
 StabilityResult run_stability_case(const StabilityCase& c, double baseline_peak_kinetic, const StabilityThresholds& t,
@@ -154,92 +246,16 @@ StabilityResult run_stability_case(const StabilityCase& c, double baseline_peak_
     return finish();
   }
   r.bound = sim->elastic_wave_bound();
-  const double dx = sim->dx();
-  const double initial_until = t.initial_fraction * c.end;
-  double initial_peak = 0, next_frame = 1.0 / 24.0;
-  const double frame = 1.0 / variant.time.frame_rate.value_or(24.0);
-  const bool solids = !sim->brittle().empty();
-  try {
-    while (sim->time() < c.end - 1e-12 * std::max(1.0, c.end)) {
-      check_stop(limits, "bench stability (" + c.scene + " / " + c.variant + " at t = " + std::to_string(sim->time()) + " s)");
-      // Brittle solids step on their own grids and steps inside one step of the simulation: step it by
-      // frames so that stop requests are heard.
-      const double dt = std::min({sim->stable_dt(), c.end - sim->time(), frame});
-      sim->step(dt);
-      r.dt = std::max(r.dt, dt);
-      const double ke = sim->kinetic_energy();
-      if (!std::isfinite(ke))
-        throw core::NumericalError("non-finite kinetic energy at step " + std::to_string(sim->steps()));
-      if (solids) continue;  // their energy and penetration are the brittle solver's (it throws on inversion)
-      r.peak_kinetic = std::max(r.peak_kinetic, ke);
-      if (sim->time() <= initial_until) initial_peak = std::max(initial_peak, ke);
-      // During the first part of the run only the default variant's peak is a reference; afterwards the
-      // larger of it and this run's own initial peak.
-      r.reference_kinetic = sim->time() <= initial_until ? baseline_peak_kinetic
-                                                         : std::max(baseline_peak_kinetic, initial_peak);
-      if (r.reference_kinetic > 0 && ke > t.energy_factor * r.reference_kinetic) {
-        trip(r, Outcome::energy_blowup, "kinetic energy / reference peak", ke / r.reference_kinetic, t.energy_factor);
-        break;
-      }
-      if (sim->time() >= next_frame - 1e-12) {  // collider check at the frame rate, as `run` does
-        next_frame += 1.0 / 24.0;
-        const double pen = output::collider_penetration(*sim, output::render_meshes(*sim)) / dx;
-        r.penetration_cells = std::isnan(r.penetration_cells) ? pen : std::max(r.penetration_cells, pen);
-      }
-    }
-    if (solids) sim->finish_brittle();  // the fracture events of solids still running at the end
-  } catch (const core::NumericalError& e) {
-    trip(r, Outcome::nan, "step of failure", static_cast<double>(sim->steps()), 0);
-    r.detail = e.what();
-  }
+  step_case(*sim, c, baseline_peak_kinetic, t, limits, r);
   r.steps = sim->steps();
   r.simulated_seconds = sim->time();
-  if (solids) {
-    // Steps, the largest step and the bound of the brittle solvers (dx over the P-wave speed: their
-    // cfl 1 at rest), not of the frame loop above.
-    r.steps = 0;
-    r.dt = 0;
-    r.bound = std::numeric_limits<double>::infinity();
-    for (size_t b = 0; b < sim->brittle().size(); ++b) {
-      const sim::BrittleSystem::Body& body = sim->brittle().body(b);
-      r.steps += static_cast<long>(body.solver->steps());
-      r.dt = std::max(r.dt, body.solver->dt());
-      r.bound = std::min(r.bound, body.solver->options().dx / body.solid->material.wave_speed());
-    }
-  }
+  const bool solids = !sim->brittle().empty();
+  if (solids) brittle_steps(*sim, r);
   if (r.outcome != Outcome::completed) return finish();
-  if (solids) {
+  if (solids)
     classify_solids(*sim, c, r);
-    return finish();
-  }
-
-  const auto meshes = output::render_meshes(*sim);
-  const double pen = output::collider_penetration(*sim, meshes) / dx;
-  r.penetration_cells = std::isnan(r.penetration_cells) ? pen : std::max(r.penetration_cells, pen);
-  double area = 0;
-  r.fragments = 0;
-  for (const auto& m : meshes) {
-    area += render_mesh::surface_area(m);
-    r.fragments += render_mesh::count_components(m);
-  }
-  r.area_ratio = c.reference_area > 0 ? area / c.reference_area : kNaN;
-  if (c.expected_fragments > 1) r.separation_cells = fragment_separation(meshes[0]) / dx;
-  if (c.seam) r.seam_angle_degrees = seam_angle_degrees(*sim);
-
-  if (r.penetration_cells > t.penetration_cells)
-    trip(r, Outcome::penetration, "collider penetration [cells]", r.penetration_cells, t.penetration_cells);
-  else if (r.area_ratio < 1 - t.area_tolerance)
-    trip(r, Outcome::area_loss, "area / reference area", r.area_ratio, 1 - t.area_tolerance);
-  else if (r.area_ratio > 1 + t.area_tolerance)
-    trip(r, Outcome::area_gain, "area / reference area", r.area_ratio, 1 + t.area_tolerance);
-  else if (c.expected_fragments > 1 && r.fragments < c.expected_fragments)
-    trip(r, Outcome::glued, "render-mesh fragments", r.fragments, c.expected_fragments);
-  else if (c.expected_fragments > 1 && r.fragments > c.expected_fragments)
-    trip(r, Outcome::shattered, "render-mesh fragments", r.fragments, c.expected_fragments);
-  else if (c.expected_fragments > 1 && r.separation_cells < t.separation_cells)
-    trip(r, Outcome::glued, "fragment separation [cells]", r.separation_cells, t.separation_cells);
-  else if (c.seam && r.seam_angle_degrees > t.crease_degrees)
-    trip(r, Outcome::crease, "normal jump across the seam [deg]", r.seam_angle_degrees, t.crease_degrees);
+  else
+    classify_shells(*sim, c, t, r);
   return finish();
 }
 
