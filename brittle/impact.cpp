@@ -10,27 +10,44 @@
 
 namespace shellfrac::brittle {
 
-std::vector<GhostParticle> impact_ghosts(const Impact& im, const TriMesh& mesh, const BrittleSolid& solid,
-                                         const std::string& source) {
-  auto fail = [&](const std::string& why) { throw InputError(source + ": impact " + why); };
-  if (!im.point.allFinite()) fail("point is not finite");
-  if (!(im.impulse > 0) || !std::isfinite(im.impulse)) fail("impulse must be > 0 (got " + std::to_string(im.impulse) + " N s)");
-  if (!(im.duration > 0) || !std::isfinite(im.duration)) fail("duration must be > 0 (got " + std::to_string(im.duration) + " s)");
-  if (!(im.direction.norm() > 0) || !im.direction.allFinite()) fail("direction must be a non-zero vector");
-  if (solid.size() == 0) fail("has no particles to act on");
-  const Vec3 dir = im.direction.normalized();
-  const double radius = im.radius > 0 ? im.radius : 2.0 * solid.spacing;
+namespace {
 
-  // The contact patch is the part of the surface within `radius` of the point (thesis sec. 3.9: a
-  // circular area). Each element that reaches into it gets one ghost at the centroid of its part inside,
-  // carrying the force in proportion to that part's area: a uniform traction I n / (t_c A) over the
-  // patch (Eq. 3.12), whatever the tessellation. (Choosing whole elements by their centroids put the
-  // whole load of an impact at the centre of a coarsely meshed face, e.g. a box face of four large
-  // triangles, on the centroid of the nearest triangle, several centimetres off the point.)
-  struct Patch {
-    Vec3 centroid, normal;
-    double area;
-  };
+// One surface element's part inside the contact ball: its centroid, the element's normal and its area.
+struct Patch {
+  Vec3 centroid, normal;
+  double area;
+};
+
+// The part of triangle a b c within `radius` of `point`, by a barycentric subdivision fine against the
+// radius (at most 64^2); area 0 if none.
+Patch part_inside(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& n, const Vec3& point, double radius) {
+  const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+  const int k = std::clamp(static_cast<int>(std::ceil(8.0 * longest / radius)), 1, 64);
+  const double sub_area = 0.5 * n.norm() / (k * k);
+  double inside = 0;
+  Vec3 centroid = Vec3::Zero();
+  const Vec3 e1 = (b - a) / k, e2 = (c - a) / k;
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; i + j < k; ++j) {
+      const Vec3 o = a + i * e1 + j * e2;
+      const Vec3 up = o + (e1 + e2) / 3.0;                 // centroid of the upright sub-triangle
+      if ((up - point).norm() <= radius) inside += sub_area, centroid += sub_area * up;
+      if (i + j + 1 < k) {
+        const Vec3 down = o + 2.0 * (e1 + e2) / 3.0;         // and of the inverted one next to it
+        if ((down - point).norm() <= radius) inside += sub_area, centroid += sub_area * down;
+      }
+    }
+  return {inside > 0 ? Vec3(centroid / inside) : Vec3::Zero(), n.normalized(), inside};
+}
+
+// The contact patch: the part of the surface within `radius` of the point (thesis sec. 3.9: a circular
+// area). Each element that reaches into it gives one patch at the centroid of its part inside, so that
+// the load is a uniform traction over the patch whatever the tessellation. (Choosing whole elements by
+// their centroids put the whole load of an impact on a coarsely meshed face, e.g. a box face of four large
+// triangles, on the centroid of the nearest triangle, several centimetres off the point.) A point off the
+// surface by more than the radius gets its closest point. `fail` is called for a point too far away.
+template <class Fail>
+std::vector<Patch> contact_patches(const Impact& im, const TriMesh& mesh, double radius, double tolerance, Fail&& fail) {
   std::vector<Patch> patches;
   double nearest = std::numeric_limits<double>::infinity();
   size_t nearest_tri = 0;
@@ -48,37 +65,50 @@ std::vector<GhostParticle> impact_ghosts(const Impact& im, const TriMesh& mesh, 
     if (d > radius) continue;
     const Vec3 n = (b - a).cross(c - a);
     if (!(n.norm() > 0)) continue;
-    // The part inside the ball, by a barycentric subdivision fine against the radius (at most 64^2).
-    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-    const int k = std::clamp(static_cast<int>(std::ceil(8.0 * longest / radius)), 1, 64);
-    const double sub_area = 0.5 * n.norm() / (k * k);
-    double inside = 0;
-    Vec3 centroid = Vec3::Zero();
-    const Vec3 e1 = (b - a) / k, e2 = (c - a) / k;
-    for (int i = 0; i < k; ++i)
-      for (int j = 0; i + j < k; ++j) {
-        const Vec3 o = a + i * e1 + j * e2;
-        const Vec3 up = o + (e1 + e2) / 3.0;                 // centroid of the upright sub-triangle
-        if ((up - im.point).norm() <= radius) inside += sub_area, centroid += sub_area * up;
-        if (i + j + 1 < k) {
-          const Vec3 down = o + 2.0 * (e1 + e2) / 3.0;         // and of the inverted one next to it
-          if ((down - im.point).norm() <= radius) inside += sub_area, centroid += sub_area * down;
-        }
-      }
-    if (inside > 0) patches.push_back({centroid / inside, n.normalized(), inside});
+    const Patch part = part_inside(a, b, c, n, im.point, radius);
+    if (part.area > 0) patches.push_back(part);
   }
-  const double tolerance = std::max(radius, 2.0 * solid.spacing);
   if (!(nearest <= tolerance)) {
     std::ostringstream m;
     m << "point (" << im.point.transpose() << ") is " << nearest << " m from the surface of '" << mesh.name
       << "' (more than " << tolerance << " m): impacts must touch the object";
     fail(m.str());
   }
-  if (patches.empty()) {  // the point is off the surface by more than the radius: its closest point
+  if (patches.empty()) {
     const Tri& tri = mesh.triangles[nearest_tri];
     const Vec3 n = (mesh.positions[tri[1]] - mesh.positions[tri[0]]).cross(mesh.positions[tri[2]] - mesh.positions[tri[0]]);
     if (n.norm() > 0) patches.push_back({nearest_point, n.normalized(), 0.5 * n.norm()});
   }
+  return patches;
+}
+
+// The solid particle nearest to x at rest.
+size_t nearest_particle(const BrittleSolid& solid, const Vec3& x) {
+  size_t anchor = 0;
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t p = 0; p < solid.size(); ++p) {
+    const double d = (solid.rest[p] - x).squaredNorm();
+    if (d < best) {
+      best = d;
+      anchor = p;
+    }
+  }
+  return anchor;
+}
+
+}  // namespace
+
+std::vector<GhostParticle> impact_ghosts(const Impact& im, const TriMesh& mesh, const BrittleSolid& solid,
+                                         const std::string& source) {
+  auto fail = [&](const std::string& why) { throw InputError(source + ": impact " + why); };
+  if (!im.point.allFinite()) fail("point is not finite");
+  if (!(im.impulse > 0) || !std::isfinite(im.impulse)) fail("impulse must be > 0 (got " + std::to_string(im.impulse) + " N s)");
+  if (!(im.duration > 0) || !std::isfinite(im.duration)) fail("duration must be > 0 (got " + std::to_string(im.duration) + " s)");
+  if (!(im.direction.norm() > 0) || !im.direction.allFinite()) fail("direction must be a non-zero vector");
+  if (solid.size() == 0) fail("has no particles to act on");
+  const Vec3 dir = im.direction.normalized();
+  const double radius = im.radius > 0 ? im.radius : 2.0 * solid.spacing;
+  const std::vector<Patch> patches = contact_patches(im, mesh, radius, std::max(radius, 2.0 * solid.spacing), fail);
 
   double area = 0;
   Vec3 mean_normal = Vec3::Zero();
@@ -100,17 +130,10 @@ std::vector<GhostParticle> impact_ghosts(const Impact& im, const TriMesh& mesh, 
   for (const Patch& pa : patches) {
     GhostParticle g;
     g.rest = pa.centroid - 0.5 * solid.spacing * pa.normal;  // just inside, where nodes have mass
-    g.force = total_force * (pa.area / area);  // traction I n / (t_c A) times the patch's area
+    g.force = total_force * (pa.area / area);  // traction I n / (t_c A) times the patch's area (Eq. 3.12)
     g.start = im.start_time;
     g.end = im.start_time + im.duration;
-    double best = std::numeric_limits<double>::infinity();
-    for (size_t p = 0; p < solid.size(); ++p) {
-      const double d = (solid.rest[p] - g.rest).squaredNorm();
-      if (d < best) {
-        best = d;
-        g.anchor = p;
-      }
-    }
+    g.anchor = nearest_particle(solid, g.rest);
     ghosts.push_back(g);
   }
   return ghosts;
