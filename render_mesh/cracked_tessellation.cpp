@@ -254,12 +254,13 @@ struct GridEdges {
   }
 };
 
-// A crack that lies in the interior of a quad touches none of its edges; the polygon tracing would
-// make it a hole. Each such floating component gets two bridges, horizontally to the left from its
-// leftmost vertex and to the right from its rightmost one, up to the first edge hit. Then the edge
-// graph of the quad is connected and every traced face is a polygon without holes.
-void bridge_floating_cracks(CrackedQuad& quad, VertexRegistry& reg, const GridEdges& edges,
-                            const EdgeCracks& edge_cracks) {
+// A crack component inside a quad that touches none of its edges, by its leftmost and rightmost vertices.
+struct FloatingCrack {
+  int left, right;
+};
+
+// The floating components of the quad's pieces, ordered left to right (by u, then v, then vertex id).
+std::vector<FloatingCrack> floating_cracks(const CrackedQuad& quad, const VertexRegistry& reg) {
   const auto& P = reg.points;
   std::unordered_map<int, int> local;
   std::vector<int> global;
@@ -281,81 +282,91 @@ void bridge_floating_cracks(CrackedQuad& quad, VertexRegistry& reg, const GridEd
   std::map<int, bool> anchored;  // component root -> touches the quad boundary
   for (size_t k = 0; k < global.size(); ++k) anchored[sets.find(static_cast<int>(k))] |= on_quad_boundary(global[k]);
 
-  // Floating components with their leftmost and rightmost vertices, ordered left to right.
-  struct Floating {
-    int left, right;
-  };
   auto less_uv = [&](int x, int y) {
     const Vec2 &px = P[static_cast<size_t>(x)], &py = P[static_cast<size_t>(y)];
     return std::tie(px.x(), px.y(), x) < std::tie(py.x(), py.y(), y);
   };
-  std::map<int, Floating> by_root;
+  std::map<int, FloatingCrack> by_root;
   for (size_t k = 0; k < global.size(); ++k) {
     const int root = sets.find(static_cast<int>(k));
     if (anchored[root]) continue;
     const int id = global[k];
-    auto [it, inserted] = by_root.emplace(root, Floating{id, id});
+    auto [it, inserted] = by_root.emplace(root, FloatingCrack{id, id});
     if (!inserted) {
       if (less_uv(id, it->second.left)) it->second.left = id;
       if (less_uv(it->second.right, id)) it->second.right = id;
     }
   }
-  std::vector<Floating> floating;
+  std::vector<FloatingCrack> floating;
   for (const auto& entry : by_root) floating.push_back(entry.second);
-  std::sort(floating.begin(), floating.end(), [&](const Floating& x, const Floating& y) { return less_uv(x.left, y.left); });
+  std::sort(floating.begin(), floating.end(),
+            [&](const FloatingCrack& x, const FloatingCrack& y) { return less_uv(x.left, y.left); });
+  return floating;
+}
 
+// The vertex where a horizontal ray from vertex `from` first meets an edge of the quad (side -1: to the
+// left): an end point on the ray, a piece it crosses (split there), or the quad boundary (a new vertex,
+// on the crack if a crack runs along that edge there).
+int cast_bridge(CrackedQuad& quad, VertexRegistry& reg, const GridEdges& edges, const EdgeCracks& edge_cracks,
+                int from, int side) {
+  const auto& P = reg.points;
   const double tol = reg.tolerance();
-  // The vertex where a horizontal ray from `from` first meets an edge of the quad (side -1: left).
-  auto cast = [&](int from, int side) {
-    const Vec2 o = P[static_cast<size_t>(from)];
-    double best = reg.grid_u(side < 0 ? quad.i : quad.i + 1);
-    int best_piece = -1, best_vertex = -1;
-    for (size_t k = 0; k < quad.pieces.size(); ++k) {
-      const Piece& p = quad.pieces[k];
-      for (int end : {p.a, p.b}) {  // end points on the ray, e.g. of pieces along it
-        const Vec2& e = P[static_cast<size_t>(end)];
-        if (end != from && std::abs(e.y() - o.y()) <= tol && side * (e.x() - o.x()) > tol &&
-            side * (best - e.x()) >= 0.0) {
-          best = e.x();
-          best_vertex = end;
-          best_piece = -1;
-        }
-      }
-      const Vec2 a = P[static_cast<size_t>(p.a)], b = P[static_cast<size_t>(p.b)];
-      if ((a.y() - o.y()) * (b.y() - o.y()) >= 0.0) continue;  // no proper crossing of the ray
-      const double u = a.x() + (o.y() - a.y()) / (b.y() - a.y()) * (b.x() - a.x());
-      if (side * (u - o.x()) > tol && side * (best - u) > 0.0) {
-        best = u;
-        best_piece = static_cast<int>(k);
-        best_vertex = -1;
+  const Vec2 o = P[static_cast<size_t>(from)];
+  double best = reg.grid_u(side < 0 ? quad.i : quad.i + 1);
+  int best_piece = -1, best_vertex = -1;
+  for (size_t k = 0; k < quad.pieces.size(); ++k) {
+    const Piece& p = quad.pieces[k];
+    for (int end : {p.a, p.b}) {  // end points on the ray, e.g. of pieces along it
+      const Vec2& e = P[static_cast<size_t>(end)];
+      if (end != from && std::abs(e.y() - o.y()) <= tol && side * (e.x() - o.x()) > tol &&
+          side * (best - e.x()) >= 0.0) {
+        best = e.x();
+        best_vertex = end;
+        best_piece = -1;
       }
     }
-    if (best_vertex >= 0) return best_vertex;
-    const int hit = reg.add(Vec2(best, o.y()));
-    reg.used[static_cast<size_t>(hit)] = 1;
-    if (best_piece >= 0) {
-      Piece& p = quad.pieces[static_cast<size_t>(best_piece)];
-      if (hit != p.a && hit != p.b) {
-        const Piece tail{hit, p.b, p.crack};
-        p.b = hit;
-        if (tail.crack) reg.on_crack[static_cast<size_t>(hit)] = 1;
-        quad.pieces.push_back(tail);
-      }
-    } else {
-      // On the quad boundary: if a crack runs along that edge the hit point is on the crack too.
-      const long long edge = edges.of_vertex(reg, hit);
-      const auto found = edge_cracks.find(edge);
-      if (found != edge_cracks.end())
-        for (const auto& [a, b] : found->second) {
-          const Vec2 &pa = P[static_cast<size_t>(a)], &pb = P[static_cast<size_t>(b)], &h = P[static_cast<size_t>(hit)];
-          if ((h - pa).dot(h - pb) <= 0.0) reg.on_crack[static_cast<size_t>(hit)] = 1;
-        }
+    const Vec2 a = P[static_cast<size_t>(p.a)], b = P[static_cast<size_t>(p.b)];
+    if ((a.y() - o.y()) * (b.y() - o.y()) >= 0.0) continue;  // no proper crossing of the ray
+    const double u = a.x() + (o.y() - a.y()) / (b.y() - a.y()) * (b.x() - a.x());
+    if (side * (u - o.x()) > tol && side * (best - u) > 0.0) {
+      best = u;
+      best_piece = static_cast<int>(k);
+      best_vertex = -1;
+    }
+  }
+  if (best_vertex >= 0) return best_vertex;
+  const int hit = reg.add(Vec2(best, o.y()));
+  reg.used[static_cast<size_t>(hit)] = 1;
+  if (best_piece >= 0) {
+    Piece& p = quad.pieces[static_cast<size_t>(best_piece)];
+    if (hit != p.a && hit != p.b) {
+      const Piece tail{hit, p.b, p.crack};
+      p.b = hit;
+      if (tail.crack) reg.on_crack[static_cast<size_t>(hit)] = 1;
+      quad.pieces.push_back(tail);
     }
     return hit;
-  };
-  for (const Floating& f : floating) {
-    quad.pieces.push_back(Piece{f.left, cast(f.left, -1), false});
-    quad.pieces.push_back(Piece{f.right, cast(f.right, +1), false});
+  }
+  const long long edge = edges.of_vertex(reg, hit);
+  const auto found = edge_cracks.find(edge);
+  if (found != edge_cracks.end())
+    for (const auto& [a, b] : found->second) {
+      const Vec2 &pa = reg.points[static_cast<size_t>(a)], &pb = reg.points[static_cast<size_t>(b)],
+                 &h = reg.points[static_cast<size_t>(hit)];
+      if ((h - pa).dot(h - pb) <= 0.0) reg.on_crack[static_cast<size_t>(hit)] = 1;
+    }
+  return hit;
+}
+
+// A crack that lies in the interior of a quad touches none of its edges; the polygon tracing would
+// make it a hole. Each such floating component gets two bridges, horizontally to the left from its
+// leftmost vertex and to the right from its rightmost one, up to the first edge hit. Then the edge
+// graph of the quad is connected and every traced face is a polygon without holes.
+void bridge_floating_cracks(CrackedQuad& quad, VertexRegistry& reg, const GridEdges& edges,
+                            const EdgeCracks& edge_cracks) {
+  for (const FloatingCrack& f : floating_cracks(quad, reg)) {
+    quad.pieces.push_back(Piece{f.left, cast_bridge(quad, reg, edges, edge_cracks, f.left, -1), false});
+    quad.pieces.push_back(Piece{f.right, cast_bridge(quad, reg, edges, edge_cracks, f.right, +1), false});
   }
   remove_duplicate_pieces(quad.pieces);
 }
