@@ -207,6 +207,89 @@ std::string animation_json(BufferBuilder& buffer, const std::vector<NodeTrack>& 
   return "{\"name\":\"motion\",\"samplers\":[" + samplers + "],\"channels\":[" + channels + "]}";
 }
 
+namespace {
+
+// The vertex attributes of mesh m (positions; normals and UVs when every vertex has one) as a JSON object
+// of accessor numbers.
+std::string mesh_attributes(BufferBuilder& buffer, const PolyMesh& m) {
+  std::string attributes = "{\"POSITION\":";
+  append_integer(attributes, add_positions(buffer, m));
+  if (m.normals.size() == m.positions.size()) {
+    attributes += ",\"NORMAL\":";
+    append_integer(attributes, add_normals(buffer, m));
+  }
+  if (m.uvs.size() == m.positions.size()) {
+    attributes += ",\"TEXCOORD_0\":";
+    append_integer(attributes, add_uvs(buffer, m));
+  }
+  attributes += '}';
+  return attributes;
+}
+
+// The primitives of mesh m: one per primitive mode present (triangles, lines, points), index lists in face
+// order; vertices without faces are drawn as points.
+std::string mesh_primitives(BufferBuilder& buffer, const PolyMesh& m, const std::string& attributes) {
+  const Triangulation tri = triangulate(m);
+  std::string indices[3];  // points, lines, triangles
+  int counts[3] = {0, 0, 0};
+  for (int f = 0; f < tri.mesh.num_faces(); ++f) {
+    const int b = tri.mesh.face_offsets[static_cast<size_t>(f)], e = tri.mesh.face_offsets[static_cast<size_t>(f) + 1];
+    if (e - b < 1 || e - b > 3) continue;
+    const int kind = e - b - 1;
+    for (int k = b; k < e; ++k) put_u32(indices[kind], static_cast<std::uint32_t>(tri.mesh.face_vertices[static_cast<size_t>(k)]));
+    counts[kind] += e - b;
+  }
+  std::string primitives;
+  auto add_primitive = [&](int mode, int index_accessor) {
+    if (!primitives.empty()) primitives += ',';
+    primitives += "{\"attributes\":" + attributes;
+    if (index_accessor >= 0) {
+      primitives += ",\"indices\":";
+      append_integer(primitives, index_accessor);
+    }
+    primitives += ",\"material\":0,\"mode\":";
+    append_integer(primitives, mode);
+    primitives += '}';
+  };
+  const int modes[3] = {kPoints, kLines, kTriangles};
+  for (int kind : {2, 1, 0})
+    if (counts[kind] > 0)
+      add_primitive(modes[kind], buffer.add(std::move(indices[kind]), counts[kind], "SCALAR", kUnsignedInt, kElementArrayBuffer));
+  if (primitives.empty()) add_primitive(kPoints, -1);
+  return primitives;
+}
+
+// The document's JSON around its parts (glTF 2.0): asset, scene, nodes, meshes with one double-sided
+// material, the animation, and the buffer's accessors and views.
+std::string document_json(const std::string& scene_nodes, const std::string& nodes, const std::string& gltf_meshes,
+                          const std::string& animation, const BufferBuilder& buffer, const std::string& buffer_uri) {
+  std::string j = "{\"asset\":{\"version\":\"2.0\",\"generator\":\"shellfrac\"},\"scene\":0,\"scenes\":[{";
+  if (!scene_nodes.empty()) j += "\"nodes\":[" + scene_nodes + "]";
+  j += "}]";
+  if (!nodes.empty()) j += ",\"nodes\":[" + nodes + "]";
+  if (!gltf_meshes.empty()) {
+    j += ",\"meshes\":[" + gltf_meshes + "]";
+    j += ",\"materials\":[{\"name\":\"shell\",\"doubleSided\":true,\"pbrMetallicRoughness\":"
+         "{\"baseColorFactor\":[0.8,0.8,0.8,1],\"metallicFactor\":0,\"roughnessFactor\":0.5}}]";
+  }
+  if (!animation.empty()) j += ",\"animations\":[" + animation + "]";
+  if (!buffer.empty()) {
+    j += ",\"accessors\":[" + buffer.accessors() + "]";
+    j += ",\"bufferViews\":[" + buffer.views() + "]";
+    j += ",\"buffers\":[{\"byteLength\":";
+    append_integer(j, static_cast<long long>(buffer.binary().size()));
+    if (!buffer_uri.empty()) {
+      j += ",\"uri\":";
+      append_json_string(j, uri_escape(buffer_uri));
+    }
+    j += "}]";
+  }
+  j += "}\n";
+  return j;
+}
+
+}  // namespace
+
 GltfDocument gltf_document(const std::vector<PolyMesh>& meshes, const std::string& buffer_uri,
                            const std::vector<NodeTrack>& tracks) {
   if (!tracks.empty() && tracks.size() != meshes.size())
@@ -229,79 +312,16 @@ GltfDocument gltf_document(const std::vector<PolyMesh>& meshes, const std::strin
     nodes += ",\"mesh\":";
     append_integer(nodes, mesh_count++);
     nodes += '}';
-
-    std::string attributes = "{\"POSITION\":";
-    append_integer(attributes, add_positions(buffer, m));
-    if (m.normals.size() == m.positions.size()) {
-      attributes += ",\"NORMAL\":";
-      append_integer(attributes, add_normals(buffer, m));
-    }
-    if (m.uvs.size() == m.positions.size()) {
-      attributes += ",\"TEXCOORD_0\":";
-      append_integer(attributes, add_uvs(buffer, m));
-    }
-    attributes += '}';
-
-    // Index lists per primitive mode, in face order.
-    const Triangulation tri = triangulate(m);
-    std::string indices[3];  // points, lines, triangles
-    int counts[3] = {0, 0, 0};
-    for (int f = 0; f < tri.mesh.num_faces(); ++f) {
-      const int b = tri.mesh.face_offsets[static_cast<size_t>(f)], e = tri.mesh.face_offsets[static_cast<size_t>(f) + 1];
-      if (e - b < 1 || e - b > 3) continue;
-      const int kind = e - b - 1;
-      for (int k = b; k < e; ++k) put_u32(indices[kind], static_cast<std::uint32_t>(tri.mesh.face_vertices[static_cast<size_t>(k)]));
-      counts[kind] += e - b;
-    }
-    std::string primitives;
-    auto add_primitive = [&](int mode, int index_accessor) {
-      if (!primitives.empty()) primitives += ',';
-      primitives += "{\"attributes\":" + attributes;
-      if (index_accessor >= 0) {
-        primitives += ",\"indices\":";
-        append_integer(primitives, index_accessor);
-      }
-      primitives += ",\"material\":0,\"mode\":";
-      append_integer(primitives, mode);
-      primitives += '}';
-    };
-    const int modes[3] = {kPoints, kLines, kTriangles};
-    for (int kind : {2, 1, 0})
-      if (counts[kind] > 0)
-        add_primitive(modes[kind], buffer.add(std::move(indices[kind]), counts[kind], "SCALAR", kUnsignedInt, kElementArrayBuffer));
-    if (primitives.empty()) add_primitive(kPoints, -1);  // vertices without faces: drawn as points
-
+    const std::string attributes = mesh_attributes(buffer, m);
+    const std::string primitives = mesh_primitives(buffer, m, attributes);
     if (!gltf_meshes.empty()) gltf_meshes += ',';
     gltf_meshes += "{\"name\":";
     append_json_string(gltf_meshes, name);
     gltf_meshes += ",\"primitives\":[" + primitives + "]}";
   }
-
   const std::string animation = animation_json(buffer, tracks);
   GltfDocument doc;
-  std::string& j = doc.json;
-  j = "{\"asset\":{\"version\":\"2.0\",\"generator\":\"shellfrac\"},\"scene\":0,\"scenes\":[{";
-  if (!scene_nodes.empty()) j += "\"nodes\":[" + scene_nodes + "]";
-  j += "}]";
-  if (!nodes.empty()) j += ",\"nodes\":[" + nodes + "]";
-  if (!gltf_meshes.empty()) {
-    j += ",\"meshes\":[" + gltf_meshes + "]";
-    j += ",\"materials\":[{\"name\":\"shell\",\"doubleSided\":true,\"pbrMetallicRoughness\":"
-         "{\"baseColorFactor\":[0.8,0.8,0.8,1],\"metallicFactor\":0,\"roughnessFactor\":0.5}}]";
-  }
-  if (!animation.empty()) j += ",\"animations\":[" + animation + "]";
-  if (!buffer.empty()) {
-    j += ",\"accessors\":[" + buffer.accessors() + "]";
-    j += ",\"bufferViews\":[" + buffer.views() + "]";
-    j += ",\"buffers\":[{\"byteLength\":";
-    append_integer(j, static_cast<long long>(buffer.binary().size()));
-    if (!buffer_uri.empty()) {
-      j += ",\"uri\":";
-      append_json_string(j, uri_escape(buffer_uri));
-    }
-    j += "}]";
-  }
-  j += "}\n";
+  doc.json = document_json(scene_nodes, nodes, gltf_meshes, animation, buffer, buffer_uri);
   doc.binary = buffer.binary();
   return doc;
 }
