@@ -36,6 +36,75 @@ bool landed_on_segment(const CrackGraph& graph, const CrackIndex& index, int tip
   return landed;
 }
 
+// Marches from p along d while the material ahead is damaged and no crack is crossed; stops on the patch
+// edge. Returns the length reached; hit tells whether the edge was reached.
+double march(const Point& p, const Point& d, double length, const CrackIndex& index, const DamageField& field,
+             const Box& domain, const TipExtensionSettings& settings, bool& hit) {
+  const double h = settings.spacing;
+  double reached = 0.0;
+  hit = false;
+  for (double t = settings.step; t <= length + 1e-12; t += settings.step) {
+    Segment step{p + d * reached, p + d * t};
+    const bool inside = box_contains(domain, step.b);
+    if (!inside) {
+      if (!clip_segment_to_box(step, domain)) break;
+    }
+    if (!field.damaged_at(step.b)) break;
+    if (index.crosses(step.a + d * (1e-6 * h), step.b)) break;
+    reached = (step.b - p).norm();
+    if (!inside) {
+      hit = true;
+      break;
+    }
+  }
+  return reached;
+}
+
+// A damaged ligament between the tip and a near patch edge breaks across its narrowest section: when the
+// straight way out to an edge ahead of the tip is fully damaged and shorter than the march along the
+// crack, the tip goes there instead. Along the crack direction alone, a tip beside a corner ran
+// diagonally through the ligament and landed past a control point, which was left tied to the wrong
+// side (a pinned corner of cloth-two-balls then stretched 10x). Updates dir, reached and hit_edge.
+void prefer_short_ligament(const Point& p, const Point& along, const CrackIndex& index, const DamageField& field,
+                           const Box& domain, const TipExtensionSettings& settings, Point& dir, double& reached,
+                           bool& hit_edge) {
+  const Point outward[4] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
+  const double gap[4] = {p.x() - domain.lo.x(), domain.hi.x() - p.x(), p.y() - domain.lo.y(), domain.hi.y() - p.y()};
+  for (int side = 0; side < 4; ++side) {
+    // Only edges ahead of the tip: turning back or square to the crack would cut along it.
+    if (gap[side] > settings.edge_ligament || outward[side].dot(along) <= 0.0) continue;
+    bool hit = false;
+    const double r = march(p, outward[side], settings.edge_ligament, index, field, domain, settings, hit);
+    if (hit && (!hit_edge || r < reached)) {
+      dir = outward[side];
+      reached = r;
+      hit_edge = true;
+    }
+  }
+}
+
+// Adds the march from the tip as pieces of at most settings.piece, off the sample points; the last one
+// lands exactly on the patch edge when the march reached it.
+void add_extension(CrackGraph& graph, int tip, const Point& dir, double reached, bool hit_edge,
+                   const DamageField& field, const Box& domain, const TipExtensionSettings& settings) {
+  const Point p = graph.vertices()[tip];
+  const int pieces = std::max(1, static_cast<int>(std::ceil(reached / settings.piece)));
+  int last = tip;
+  for (int k = 1; k <= pieces; ++k) {
+    Point q = p + dir * (reached * k / pieces);
+    if (hit_edge && k == pieces) {
+      Segment s{p, q + dir * (1e-9 * settings.spacing)};
+      clip_segment_to_box(s, domain);
+      q = s.b;
+    } else if (segment_hits_sample(graph.vertices()[last], q, field.points(), field.grid())) {
+      q += settings.sample_clearance * Point(-dir.y(), dir.x());
+    }
+    const int next = graph.add_vertex(q);
+    graph.add_edge(last, next);
+    last = next;
+  }
+}
+
 }  // namespace
 
 size_t extend_tips(CrackGraph& graph, CrackIndex& index, const DamageField& field, const Box& domain,
@@ -58,65 +127,12 @@ size_t extend_tips(CrackGraph& graph, CrackIndex& index, const DamageField& fiel
     const int nearest_seed = band_edge_grid.nearest(p, 10.0 * h);
     const double radius = nearest_seed >= 0 ? (band_edge[nearest_seed] - p).norm() : 0.0;
     const double max_length = old_tip ? settings.edge_ligament : 1.5 * radius + h;
-    // March from the tip along d while the material ahead is damaged and no crack is crossed; stop on the
-    // patch edge. Returns the length reached; hit tells whether the edge was reached.
-    auto march = [&](const Point& d, double length, bool& hit) {
-      double reached = 0.0;
-      hit = false;
-      for (double t = settings.step; t <= length + 1e-12; t += settings.step) {
-        Segment step{p + d * reached, p + d * t};
-        const bool inside = box_contains(domain, step.b);
-        if (!inside) {
-          if (!clip_segment_to_box(step, domain)) break;
-        }
-        if (!field.damaged_at(step.b)) break;
-        if (index.crosses(step.a + d * (1e-6 * h), step.b)) break;
-        reached = (step.b - p).norm();
-        if (!inside) {
-          hit = true;
-          break;
-        }
-      }
-      return reached;
-    };
     Point dir = along;
     bool hit_edge = false;
-    double reached = march(dir, max_length, hit_edge);
-    // A damaged ligament between the tip and a near patch edge breaks across its narrowest section: when
-    // the straight way out to an edge ahead of the tip is fully damaged and shorter than the march along
-    // the crack, the tip goes there instead. Along the crack direction alone, a tip beside a corner ran
-    // diagonally through the ligament and landed past a control point, which was left tied to the wrong
-    // side (a pinned corner of cloth-two-balls then stretched 10x).
-    const Point outward[4] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
-    const double gap[4] = {p.x() - domain.lo.x(), domain.hi.x() - p.x(), p.y() - domain.lo.y(), domain.hi.y() - p.y()};
-    for (int side = 0; side < 4; ++side) {
-      // Only edges ahead of the tip: turning back or square to the crack would cut along it.
-      if (gap[side] > settings.edge_ligament || outward[side].dot(along) <= 0.0) continue;
-      bool hit = false;
-      const double r = march(outward[side], settings.edge_ligament, hit);
-      if (hit && (!hit_edge || r < reached)) {
-        dir = outward[side];
-        reached = r;
-        hit_edge = true;
-      }
-    }
+    double reached = march(p, dir, max_length, index, field, domain, settings, hit_edge);
+    prefer_short_ligament(p, along, index, field, domain, settings, dir, reached, hit_edge);
     if (reached <= 0.0 || (old_tip && !hit_edge)) continue;
-    // Materialise the march in pieces of at most settings.piece, off the sample points.
-    const int pieces = std::max(1, static_cast<int>(std::ceil(reached / settings.piece)));
-    int last = tip;
-    for (int k = 1; k <= pieces; ++k) {
-      Point q = p + dir * (reached * k / pieces);
-      if (hit_edge && k == pieces) {  // land exactly on the patch edge
-        Segment s{p, q + dir * (1e-9 * h)};
-        clip_segment_to_box(s, domain);
-        q = s.b;
-      } else if (segment_hits_sample(graph.vertices()[last], q, field.points(), field.grid())) {
-        q += settings.sample_clearance * Point(-dir.y(), dir.x());
-      }
-      const int next = graph.add_vertex(q);
-      graph.add_edge(last, next);
-      last = next;
-    }
+    add_extension(graph, tip, dir, reached, hit_edge, field, domain, settings);
     ++extended;
     index.add_edges(graph, index.num_segments());
   }
