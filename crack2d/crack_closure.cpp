@@ -33,31 +33,32 @@ std::vector<char> near_crack(const DamageField& field, const CrackIndex& index, 
   return near;
 }
 
-}  // namespace
-
-void separate_intact_pieces(CrackGraph& graph, CrackIndex& index, const DamageField& field, const Box& domain,
-                            const ClosureSettings& settings, ClosureStats& stats) {
-  const std::vector<Point>& pts = field.points();
+// Boundary of the intact material: intact samples with a damaged neighbour, in index order.
+std::vector<int> intact_boundary(const DamageField& field) {
   const std::vector<unsigned char>& damaged = field.flags();
-  const size_t n = pts.size();
-  const double r = settings.neighbour_radius;
-
-  const SampleNeighbours& adjacency = field.neighbours();
-  // Boundary of the intact material: intact samples with a damaged neighbour.
+  const size_t n = field.points().size();
   std::vector<char> is_site(n, 0);
   for (size_t j = 0; j < n; ++j)
-    if (damaged[j]) adjacency.for_each(j, [&](int i) { is_site[i] = !damaged[i]; });
+    if (damaged[j]) field.neighbours().for_each(j, [&](int i) { is_site[i] = !damaged[i]; });
   std::vector<int> sites;
   for (size_t i = 0; i < n; ++i)
     if (is_site[i]) sites.push_back(static_cast<int>(i));
-  if (sites.size() < 2) return;
+  return sites;
+}
 
-  // Intact pieces: intact samples joined to their intact neighbours unless the crack lies between them.
-  const std::vector<char> near = near_crack(field, index, r, settings.spacing);
+// Per site, the intact piece it belongs to (intact samples joined to their intact neighbours unless the
+// crack lies between them), or -1 for pieces smaller than settings.min_piece: no crack is drawn around a
+// sliver. Empty if the damaged material borders one piece only (nothing to separate).
+std::vector<int> piece_labels(const DamageField& field, const CrackIndex& index, const std::vector<int>& sites,
+                              const ClosureSettings& settings) {
+  const std::vector<Point>& pts = field.points();
+  const std::vector<unsigned char>& damaged = field.flags();
+  const size_t n = pts.size();
+  const std::vector<char> near = near_crack(field, index, settings.neighbour_radius, settings.spacing);
   UnionFind pieces(n);
   for (size_t i = 0; i < n; ++i) {
     if (damaged[i]) continue;
-    adjacency.for_each(i, [&](int j) {
+    field.neighbours().for_each(i, [&](int j) {
       if (j <= static_cast<int>(i) || damaged[j]) return;
       if (near[i] && near[j] && index.crosses(pts[i], pts[j])) return;
       pieces.unite(static_cast<int>(i), j);
@@ -66,7 +67,6 @@ void separate_intact_pieces(CrackGraph& graph, CrackIndex& index, const DamageFi
   std::vector<size_t> piece_size(n, 0);
   for (size_t i = 0; i < n; ++i)
     if (!damaged[i]) ++piece_size[pieces.find(static_cast<int>(i))];
-  // Sites of pieces too small to stand alone get no label: no crack is drawn around a sliver.
   std::vector<int> label(sites.size(), -1);
   int first_label = -1;
   bool several = false;
@@ -77,10 +77,41 @@ void separate_intact_pieces(CrackGraph& graph, CrackIndex& index, const DamageFi
     if (first_label < 0) first_label = root;
     several = several || root != first_label;
   }
-  if (!several) return;  // damaged material borders one intact piece only: nothing to separate
+  if (!several) label.clear();
+  return label;
+}
+
+// Adds the chosen Voronoi edges to the graph, their nodes off the sample points
+// (crack2d/sample_clearance.hpp: nodes inside the patch may move a hair). Returns the edges added.
+size_t add_voronoi_edges(CrackGraph& graph, const VoronoiGraph& voronoi, const std::vector<int>& chosen,
+                         const DamageField& field, const Box& domain, const ClosureSettings& settings) {
+  std::vector<Point> node_position = voronoi.nodes;
+  std::vector<std::array<int, 2>> edges;
+  for (int e : chosen) edges.push_back({voronoi.edges[e].node_a, voronoi.edges[e].node_b});
+  std::vector<char> movable(voronoi.nodes.size());
+  for (size_t k = 0; k < movable.size(); ++k) movable[k] = !on_box_boundary(voronoi.nodes[k], domain, settings.weld);
+  clear_samples_off_edges(node_position, edges, movable, field.points(), field.grid(), settings.sample_clearance);
+  const size_t first_edge = graph.num_edges();
+  std::vector<int> vertex_of(voronoi.nodes.size(), -1);
+  auto vertex_for = [&](int node) {
+    if (vertex_of[node] < 0) vertex_of[node] = graph.add_vertex(node_position[node]);
+    return vertex_of[node];
+  };
+  for (int e : chosen) graph.add_edge(vertex_for(voronoi.edges[e].node_a), vertex_for(voronoi.edges[e].node_b));
+  return graph.num_edges() - first_edge;
+}
+
+}  // namespace
+
+void separate_intact_pieces(CrackGraph& graph, CrackIndex& index, const DamageField& field, const Box& domain,
+                            const ClosureSettings& settings, ClosureStats& stats) {
+  const std::vector<int> sites = intact_boundary(field);
+  if (sites.size() < 2) return;
+  const std::vector<int> label = piece_labels(field, index, sites, settings);
+  if (label.empty()) return;
 
   std::vector<Point> site_points(sites.size());
-  for (size_t k = 0; k < sites.size(); ++k) site_points[k] = pts[sites[k]];
+  for (size_t k = 0; k < sites.size(); ++k) site_points[k] = field.points()[sites[k]];
   const VoronoiGraph voronoi = build_voronoi_graph(site_points, domain);
 
   // A Voronoi edge between sites of two different pieces that see each other (the straight path between
@@ -99,23 +130,8 @@ void separate_intact_pieces(CrackGraph& graph, CrackIndex& index, const DamageFi
     chosen.push_back(static_cast<int>(e));
   }
   if (chosen.empty()) return;
-  // Off the sample points (crack2d/sample_clearance.hpp): nodes inside the patch may move a hair.
-  std::vector<Point> node_position = voronoi.nodes;
-  {
-    std::vector<std::array<int, 2>> edges;
-    for (int e : chosen) edges.push_back({voronoi.edges[e].node_a, voronoi.edges[e].node_b});
-    std::vector<char> movable(voronoi.nodes.size());
-    for (size_t k = 0; k < movable.size(); ++k) movable[k] = !on_box_boundary(voronoi.nodes[k], domain, settings.weld);
-    clear_samples_off_edges(node_position, edges, movable, pts, field.grid(), settings.sample_clearance);
-  }
   const size_t first_edge = graph.num_edges();
-  std::vector<int> vertex_of(voronoi.nodes.size(), -1);
-  auto vertex_for = [&](int node) {
-    if (vertex_of[node] < 0) vertex_of[node] = graph.add_vertex(node_position[node]);
-    return vertex_of[node];
-  };
-  for (int e : chosen) graph.add_edge(vertex_for(voronoi.edges[e].node_a), vertex_for(voronoi.edges[e].node_b));
-  stats.separating_edges += graph.num_edges() - first_edge;
+  stats.separating_edges += add_voronoi_edges(graph, voronoi, chosen, field, domain, settings);
   index.add_edges(graph, first_edge);
 }
 
