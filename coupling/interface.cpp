@@ -91,18 +91,12 @@ void Interface::apply(const nurbs::Vec3List& leader_x, nurbs::Vec3List& follower
   scatter(*this, follower_rows(leader_x), follower_x);
 }
 
-Interface make_interface(const nurbs::NurbsSurface& a, int patch_a, Side sa, const nurbs::NurbsSurface& b,
-                         int patch_b, Side sb, bool reversed, const InterfaceOptions& options) {
-  const std::string pair = edge_label(patch_a, sa) + " and " + edge_label(patch_b, sb);
-  const Edge ea = extract_edge(a, sa);
-  const Edge eb = extract_edge(b, sb);
-  if (ea.knots.degree() != eb.knots.degree()) {
-    throw CouplingError("cannot couple " + pair + ": degrees along the edge differ (" +
-                        std::to_string(ea.knots.degree()) + " vs " + std::to_string(eb.knots.degree()) +
-                        "); elevate one patch so both edges have the same degree");
-  }
+namespace {
 
-  // Geometric checks in the reference configuration.
+// Geometric checks in the reference configuration: the two edges have the same length and coincide (with
+// the orientation flag). Returns their largest gap.
+double check_edges_coincide(const nurbs::NurbsSurface& a, Side sa, const Edge& ea, const nurbs::NurbsSurface& b, Side sb,
+                            const Edge& eb, bool reversed, const InterfaceOptions& options, const std::string& pair) {
   const nurbs::NurbsCurve ca = edge_curve(a, ea), cb = edge_curve(b, eb);
   const double len_a = ArcLength(ca).total(), len_b = ArcLength(cb).total();
   if (std::abs(len_a - len_b) > options.tolerance) {
@@ -115,6 +109,39 @@ Interface make_interface(const nurbs::NurbsSurface& a, int patch_a, Side sa, con
                         " > tolerance " + format_number(options.tolerance) + ", reversed = " +
                         (reversed ? "true" : "false") + "); check the sides and the orientation flag");
   }
+  return gap;
+}
+
+// Exact closure needs a closed rest state: the leader's reference rows lie in the space both edges share.
+void check_rest_state_closed(const SharedSpace& shared, const PointRows& lead1, const PointRows& lead2,
+                             const InterfaceOptions& options, const std::string& pair) {
+  auto off_space = [](const Eigen::MatrixXd& E, const PointRows& rows) {
+    return (E * pseudo_inverse(E) * rows - rows).rowwise().norm().maxCoeff();
+  };
+  double off = off_space(shared.E1, lead1);
+  if (options.continuity == Continuity::C1) off = std::max(off, off_space(shared.E2, lead2));
+  if (off > options.tolerance) {
+    throw CouplingError("exact closure of " + pair + ": the leader's reference rows are " + format_number(off) +
+                        " away from the " + std::to_string(shared.E1.cols()) +
+                        " control points both edges share (tolerance " + format_number(options.tolerance) +
+                        "); use \"closure\": \"least_squares\" for this seam");
+  }
+}
+
+}  // namespace
+
+Interface make_interface(const nurbs::NurbsSurface& a, int patch_a, Side sa, const nurbs::NurbsSurface& b,
+                         int patch_b, Side sb, bool reversed, const InterfaceOptions& options) {
+  const std::string pair = edge_label(patch_a, sa) + " and " + edge_label(patch_b, sb);
+  const Edge ea = extract_edge(a, sa);
+  const Edge eb = extract_edge(b, sb);
+  if (ea.knots.degree() != eb.knots.degree()) {
+    throw CouplingError("cannot couple " + pair + ": degrees along the edge differ (" +
+                        std::to_string(ea.knots.degree()) + " vs " + std::to_string(eb.knots.degree()) +
+                        "); elevate one patch so both edges have the same degree");
+  }
+
+  const double gap = check_edges_coincide(a, sa, ea, b, sb, eb, reversed, options, pair);
 
   // The lower-resolution edge leads (lambda), the other follows (eta).
   const bool a_leads = ea.row1.size() <= eb.row1.size();
@@ -161,18 +188,8 @@ Interface make_interface(const nurbs::NurbsSurface& a, int patch_a, Side sa, con
   if (options.closure == Closure::Exact) {
     itf.exact = true;
     itf.shared = shared_space(el, ef, reversed, options.continuity == Continuity::C1);
-    // The rest state must already be closed: the leader's reference rows lie in the shared space.
-    auto off_space = [](const Eigen::MatrixXd& E, const PointRows& rows) {
-      return (E * pseudo_inverse(E) * rows - rows).rowwise().norm().maxCoeff();
-    };
-    double off = off_space(itf.shared.E1, lead1);
-    if (options.continuity == Continuity::C1) off = std::max(off, off_space(itf.shared.E2, rows_of(leader, el.row2)));
-    if (off > options.tolerance) {
-      throw CouplingError("exact closure of " + pair + ": the leader's reference rows are " + format_number(off) +
-                          " away from the " + std::to_string(itf.shared.E1.cols()) +
-                          " control points both edges share (tolerance " + format_number(options.tolerance) +
-                          "); use \"closure\": \"least_squares\" for this seam");
-    }
+    const bool c1 = options.continuity == Continuity::C1;
+    check_rest_state_closed(itf.shared, lead1, c1 ? rows_of(leader, el.row2) : PointRows(), options, pair);
   }
   return itf;
 }
