@@ -336,6 +336,8 @@ class ShellPatch {
   Vec3 support_position(const MlsSupport& m) const;
   // True when the crack separates xi from any control point of the NURBS support of `cell`.
   bool nurbs_support_cut(const Vec2& xi, size_t cell, const crack2d::CrackIndex& index) const;
+  // The census of the whole patch's bases (a point can move down the chain when the crack around it grows).
+  BasisCensus count_bases() const;
   void rebuild_mls_gather();
   // Groups the MLS points the batched kernel can take into lanes (mls_batches_), after every basis change.
   void build_mls_lanes();

@@ -29,6 +29,42 @@ struct PointResult {
   Vec3 rigid_offset = Vec3::Zero();
 };
 
+// Stores the examined points' new bases, serially in point order (in-plane points, then shear particles),
+// so that new slots are numbered the same way every run; counts them and names the first failure and
+// the first sliver in `report`.
+template <class Slots>
+void merge_point_results(std::vector<PointResult>& results, size_t np, std::vector<int32_t>& point_slot,
+                         std::vector<int32_t>& shear_slot, Slots& slots, CrackUpdate& report) {
+  for (size_t i = 0; i < results.size(); ++i) {
+    PointResult& res = results[i];
+    if (res.kind == PointResult::Unchanged) continue;
+    ++report.examined;
+    const bool is_shear = i >= np;
+    const size_t id = is_shear ? i - np : i;
+    int32_t& slot = is_shear ? shear_slot[id] : point_slot[id];
+    if (res.kind == PointResult::Nurbs) continue;  // the crack passes by without cutting its support
+    const std::string who = (is_shear ? "shear particle " : "quadrature point ") + std::to_string(id);
+    if (res.fit.chain_failed && report.first_failure.empty()) report.first_failure = who + ": " + res.fit.reason;
+    if (res.fit.level >= BasisLevel::Rigid && report.first_sliver.empty())
+      report.first_sliver = who + " at (" + std::to_string(res.fit.at.x()) + ", " + std::to_string(res.fit.at.y()) +
+                            "): " + basis_level_name(res.fit.level);
+    if (slot < 0) {
+      slot = static_cast<int32_t>(slots.size());
+      slots.emplace_back();
+    }
+    auto& m = slots[static_cast<size_t>(slot)];
+    m.index = std::move(res.index);
+    m.basis = std::move(res.basis);
+    m.force.assign(m.index.size(), Vec3::Zero());
+    m.reach = res.fit.reach;
+    m.level = res.fit.level;
+    m.order = res.fit.order;
+    m.rigid_offset = res.rigid_offset;
+    m.nudged = res.fit.nudged;
+    m.chain_failed = res.fit.chain_failed;
+  }
+}
+
 }  // namespace
 
 bool ShellPatch::nurbs_support_cut(const Vec2& xi, size_t cell, const crack2d::CrackIndex& index) const {
@@ -132,37 +168,24 @@ CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t fi
     }
   });
 
-  // Serial merge in point order (deterministic slot numbering).
-  for (size_t i = 0; i < total; ++i) {
-    PointResult& res = results[i];
-    if (res.kind == PointResult::Unchanged) continue;
-    ++report.examined;
-    const bool is_shear = i >= np;
-    const size_t id = is_shear ? i - np : i;
-    int32_t& slot = is_shear ? shear_slot_[id] : point_slot_[id];
-    if (res.kind == PointResult::Nurbs) continue;  // the crack passes by without cutting its support
-    const std::string who = (is_shear ? "shear particle " : "quadrature point ") + std::to_string(id);
-    if (res.fit.chain_failed && report.first_failure.empty()) report.first_failure = who + ": " + res.fit.reason;
-    if (res.fit.level >= BasisLevel::Rigid && report.first_sliver.empty())
-      report.first_sliver = who + " at (" + std::to_string(res.fit.at.x()) + ", " + std::to_string(res.fit.at.y()) +
-                            "): " + basis_level_name(res.fit.level);
-    if (slot < 0) {
-      slot = static_cast<int32_t>(slots_.size());
-      slots_.emplace_back();
-    }
-    MlsSupport& m = slots_[static_cast<size_t>(slot)];
-    m.index = std::move(res.index);
-    m.basis = std::move(res.basis);
-    m.force.assign(m.index.size(), Vec3::Zero());
-    m.reach = res.fit.reach;
-    m.level = res.fit.level;
-    m.order = res.fit.order;
-    m.rigid_offset = res.rigid_offset;
-    m.nudged = res.fit.nudged;
-    m.chain_failed = res.fit.chain_failed;
-  }
+  merge_point_results(results, np, point_slot_, shear_slot_, slots_, report);
+  const BasisCensus census = count_bases();
+  census_ = census;
+  report.census = census;
+  report.failures = census.failures;
+  rebuild_mls_gather();
+  build_mls_lanes();
+  for (int32_t s : point_slot_) report.mls_points += s >= 0 && slots_[static_cast<size_t>(s)].level < BasisLevel::Rigid;
+  for (int32_t s : shear_slot_) report.mls_shear += s >= 0 && slots_[static_cast<size_t>(s)].level < BasisLevel::Rigid;
+  num_mls_points_ = report.mls_points;
+  const BasisRows rows = basis_rows();
+  choose_added_mass(rows);
+  basis_stiffness_ = stiffness_of(rows);
+  return report;
+}
 
-  // The census of the whole patch (a point can move down the chain when the crack around it grows).
+BasisCensus ShellPatch::count_bases() const {
+  const size_t np = param_.size();
   BasisCensus census;
   for (const int32_t* slot_of : {point_slot_.data(), shear_slot_.data()})
     for (size_t i = 0; i < (slot_of == point_slot_.data() ? np : num_cells_); ++i) {
@@ -183,18 +206,7 @@ CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t fi
     (level == BasisLevel::Rigid ? census.rigid_mass : census.removed_mass) += material_.density * V;
   }
   for (size_t c = 0; c < num_cells_; ++c) ++census.shear[static_cast<size_t>(shear_level(c))];
-  census_ = census;
-  report.census = census;
-  report.failures = census.failures;
-  rebuild_mls_gather();
-  build_mls_lanes();
-  for (int32_t s : point_slot_) report.mls_points += s >= 0 && slots_[static_cast<size_t>(s)].level < BasisLevel::Rigid;
-  for (int32_t s : shear_slot_) report.mls_shear += s >= 0 && slots_[static_cast<size_t>(s)].level < BasisLevel::Rigid;
-  num_mls_points_ = report.mls_points;
-  const BasisRows rows = basis_rows();
-  choose_added_mass(rows);
-  basis_stiffness_ = stiffness_of(rows);
-  return report;
+  return census;
 }
 
 ShellPatch::BasisRows ShellPatch::basis_rows() const {
