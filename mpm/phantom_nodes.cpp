@@ -151,7 +151,8 @@ std::vector<uint32_t> flag_nodes(const SparseGrid& grid, const std::vector<Parti
 }
 
 // Step 2's result: every (node, particle) pair at a flagged node, bucketed by node (pairs of slot s at
-// slot_count[s] .. slot_count[s + 1]); the flagged nodes' blocks and the particles binned next to them.
+// slot_count[s] .. slot_count[s + 1]); the flagged nodes' blocks and, for the memo, the particles binned
+// next to them.
 struct NodePairs {
   std::vector<NodeParticle> pairs;
   std::vector<uint32_t> slot_count;
@@ -162,13 +163,14 @@ struct NodePairs {
 // Step 2: a counting sort by node (particles in (set, index) order inside a node): deterministic,
 // O(pairs). Only particles binned next to the flagged nodes' blocks can reach them, so only those are
 // looked at; their stencils come from the grid's per-particle cache (filled by rebuild).
-NodePairs bucket_pairs(const SparseGrid& grid, const std::vector<uint32_t>& slot_node, const NodeSlots& node_slot) {
+NodePairs bucket_pairs(const SparseGrid& grid, const std::vector<uint32_t>& slot_node, const NodeSlots& node_slot,
+                       bool keep_near) {
   NodePairs out;
   out.blocks.resize(slot_node.size());
   for (size_t slot = 0; slot < slot_node.size(); ++slot) out.blocks[slot] = static_cast<uint32_t>(slot_node[slot] / SparseGrid::kBlockNodes);
   out.blocks.erase(std::unique(out.blocks.begin(), out.blocks.end()), out.blocks.end());  // slot_node is sorted
   std::vector<uint64_t> touching = grid.particles_near_blocks(out.blocks);
-  out.near = touching;
+  if (keep_near) out.near = touching;
   std::vector<uint32_t> reached(touching.size());  // per kept particle: bit k set when stencil entry k is flagged
   out.slot_count.assign(slot_node.size() + 1, 0);
   size_t kept = 0;
@@ -234,7 +236,7 @@ PhantomLayout partition_nodes(const SparseGrid& grid, const std::vector<Particle
     if (memo) memo->clear();
     return layout;
   }
-  NodePairs np = bucket_pairs(grid, slot_node, node_slot);
+  NodePairs np = bucket_pairs(grid, slot_node, node_slot, memo != nullptr);
 
   // 3. Components per node (in parallel: nodes are independent). component[i] numbers the components
   //    of pair i's node by first member; a node with two or more gets one copy per component. A node

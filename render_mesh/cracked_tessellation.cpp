@@ -1,4 +1,5 @@
 #include "render_mesh/cracked_tessellation.hpp"
+#include "core/union_find.hpp"
 #include "render_mesh/plane_geometry.hpp"
 
 #include <Eigen/Geometry>
@@ -40,23 +41,6 @@ bool clip_to_domain(Vec2& a, Vec2& b, const ParameterDomain& d) {
   b = end;
   return true;
 }
-
-// Union-find over small dense index sets (fragments, floating crack pieces).
-struct DisjointSets {
-  std::vector<int> parent;
-  explicit DisjointSets(int n = 0) : parent(static_cast<size_t>(n)) {
-    std::iota(parent.begin(), parent.end(), 0);
-  }
-  int add() {
-    parent.push_back(static_cast<int>(parent.size()));
-    return parent.back();
-  }
-  int find(int x) {
-    while (parent[static_cast<size_t>(x)] != x) x = parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
-    return x;
-  }
-  void unite(int a, int b) { parent[static_cast<size_t>(find(a))] = find(b); }
-};
 
 // Merge and snap distance, as a fraction of the smaller quad side. Crack graph vertices carry the
 // round-off of the Voronoi medial axis (about 2e-9 in parameter units): with 1e-9 of a quad side
@@ -273,22 +257,22 @@ std::vector<FloatingCrack> floating_cracks(const CrackedQuad& quad, const Vertex
     local_of(p.a);
     local_of(p.b);
   }
-  DisjointSets sets(static_cast<int>(global.size()));
-  for (const Piece& p : quad.pieces) sets.unite(local_of(p.a), local_of(p.b));
+  core::UnionFind sets(global.size());
+  for (const Piece& p : quad.pieces) sets.unite(static_cast<size_t>(local_of(p.a)), static_cast<size_t>(local_of(p.b)));
   auto on_quad_boundary = [&](int id) {
     const int lu = reg.line_u[static_cast<size_t>(id)], lv = reg.line_v[static_cast<size_t>(id)];
     return lu == quad.i || lu == quad.i + 1 || lv == quad.j || lv == quad.j + 1;
   };
-  std::map<int, bool> anchored;  // component root -> touches the quad boundary
-  for (size_t k = 0; k < global.size(); ++k) anchored[sets.find(static_cast<int>(k))] |= on_quad_boundary(global[k]);
+  std::map<size_t, bool> anchored;  // component root -> touches the quad boundary
+  for (size_t k = 0; k < global.size(); ++k) anchored[sets.find(k)] |= on_quad_boundary(global[k]);
 
   auto less_uv = [&](int x, int y) {
     const Vec2 &px = P[static_cast<size_t>(x)], &py = P[static_cast<size_t>(y)];
     return std::tie(px.x(), px.y(), x) < std::tie(py.x(), py.y(), y);
   };
-  std::map<int, FloatingCrack> by_root;
+  std::map<size_t, FloatingCrack> by_root;
   for (size_t k = 0; k < global.size(); ++k) {
-    const int root = sets.find(static_cast<int>(k));
+    const size_t root = sets.find(k);
     if (anchored[root]) continue;
     const int id = global[k];
     auto [it, inserted] = by_root.emplace(root, FloatingCrack{id, id});
@@ -421,22 +405,6 @@ void trace_polygons(const Polygon& boundary, const std::vector<Piece>& pieces, c
     }
     if (polygon.size() >= 3) polygons.push_back(std::move(polygon));
   }
-}
-
-template <class FaceVertices>
-int count_face_components(int num_vertices, const std::vector<int>& offsets, const FaceVertices& vertices) {
-  DisjointSets sets(num_vertices);
-  std::vector<unsigned char> referenced(static_cast<size_t>(num_vertices), 0);
-  for (size_t f = 0; f + 1 < offsets.size(); ++f)
-    for (int k = offsets[f]; k < offsets[f + 1]; ++k) {
-      const int v = vertices[static_cast<size_t>(k)];
-      referenced[static_cast<size_t>(v)] = 1;
-      sets.unite(v, vertices[static_cast<size_t>(offsets[f])]);
-    }
-  int components = 0;
-  for (int v = 0; v < num_vertices; ++v)
-    if (referenced[static_cast<size_t>(v)] && sets.find(v) == v) ++components;
-  return components;
 }
 
 }  // namespace
@@ -662,40 +630,6 @@ PolyMesh assemble_render_mesh(const ParameterMesh& mesh, const ParameterDomain& 
   out.positions = std::move(positions);
   out.normals = std::move(normals);
   return out;
-}
-
-double surface_area(const PolyMesh& m) {
-  double area = 0;
-  for (int f = 0; f < m.num_faces(); ++f) {
-    const auto b = static_cast<size_t>(m.face_offsets[static_cast<size_t>(f)]);
-    const auto e = static_cast<size_t>(m.face_offsets[static_cast<size_t>(f) + 1]);
-    const Eigen::Vector3d& o = m.positions[static_cast<size_t>(m.face_vertices[b])];
-    Eigen::Vector3d twice = Eigen::Vector3d::Zero();
-    for (size_t k = b + 1; k + 1 < e; ++k)
-      twice += (m.positions[static_cast<size_t>(m.face_vertices[k])] - o)
-                   .cross(m.positions[static_cast<size_t>(m.face_vertices[k + 1])] - o);
-    area += 0.5 * twice.norm();
-  }
-  return area;
-}
-
-int count_components(const PolyMesh& mesh) {
-  return count_face_components(mesh.num_vertices(), mesh.face_offsets, mesh.face_vertices);
-}
-
-int count_components(const ParameterMesh& mesh) {
-  return count_face_components(mesh.num_vertices(), mesh.face_offsets, mesh.face_vertices);
-}
-
-double signed_area(const ParameterMesh& mesh, int face) {
-  const int begin = mesh.face_offsets[static_cast<size_t>(face)], end = mesh.face_offsets[static_cast<size_t>(face) + 1];
-  double twice = 0.0;
-  for (int k = begin; k < end; ++k) {
-    const Vec2& a = mesh.uv[static_cast<size_t>(mesh.face_vertices[static_cast<size_t>(k)])];
-    const Vec2& b = mesh.uv[static_cast<size_t>(mesh.face_vertices[static_cast<size_t>(k + 1 < end ? k + 1 : begin)])];
-    twice += cross2(a, b);
-  }
-  return 0.5 * twice;
 }
 
 }  // namespace shellfrac::render_mesh
