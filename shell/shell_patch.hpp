@@ -6,13 +6,19 @@
 #include <vector>
 
 #include "crack2d/crack_index.hpp"
+#include "crack2d/crack_paths.hpp"
 #include "nurbs/nurbs_surface.hpp"
+#include "shell/basis_chain.hpp"
+#include "shell/basis_stiffness.hpp"
+#include "shell/crack_bases.hpp"
 #include "shell/damage.hpp"
+#include "shell/force_gather.hpp"
 #include "shell/in_plane_stress.hpp"
 #include "shell/kinematics.hpp"
-#include "crack2d/crack_paths.hpp"
-#include "shell/basis_chain.hpp"
+#include "shell/material_state.hpp"
 #include "shell/mls_basis.hpp"
+#include "shell/patch_particles.hpp"
+#include "shell/patch_quadrature.hpp"
 #include "shell/plasticity.hpp"
 #include "shell/quadrature.hpp"
 #include "shell/shear_model.hpp"
@@ -22,7 +28,6 @@
 namespace shellfrac::shell {
 
 using Vec2 = Eigen::Vector2d;
-
 
 // Material constants a shell patch needs for its forces.
 struct ShellMaterial {
@@ -45,48 +50,6 @@ struct ShellMaterial {
 inline constexpr double kShearParticleMassShare = 0.5;
 static_assert(kShearParticleMassShare == ShellMaterial{}.shear_mass_share);
 
-// Type-III particles: one per cell at the parameter location of the cell's middle control point
-// (thesis sec. 4.3.2). They carry the elastic director d_3 that the grid velocity advects, and resist
-// compression and (under friction) shear.
-struct ShearParticles {
-  std::vector<Vec3> x, v;              // position (NURBS-interpolated, thesis Eq. 4.10); grid velocity
-  std::vector<double> mass;            // ShellMaterial::shear_mass_share of the cell's mass
-  std::vector<Vec3> director;          // elastic d_3
-  std::vector<Mat3> reference_inverse; // D^-1 with D = E^T [A_1 A_2 N] in the local frame E = [E_1 E_2 N]
-  std::vector<Mat3> stress;            // grid stress term S_p = V dpsi/dd_3 (x) d_3
-  std::vector<Mat3> velocity_gradient; // grid velocity gradient at x, written by g2p
-  std::vector<double> volume;          // cell area x thickness
-  std::vector<double> basis;           // per particle: support x {R, R_1, R_2}
-};
-
-// Which basis every point of a patch uses (shell/basis_chain.hpp, docs/mls.md "Fallback chain").
-struct BasisCensus {
-  std::array<size_t, kNumBasisLevels> points{};  // in-plane quadrature points per BasisLevel
-  std::array<size_t, kNumBasisLevels> shear{};   // shear particles per BasisLevel
-  size_t nudged = 0;         // points (either kind) that lay exactly on a crack line
-  size_t membrane_only = 0;  // in-plane points with a linear basis: membrane stress, no bending
-  // Points left without a basis although their fragment spans a plane (the chain failed; they are
-  // treated as Rigid). Material without a basis: 0 unless something is wrong.
-  size_t failures = 0;
-  // Material of the in-plane points at levels Rigid and Removed: it carries no stress. Area = sum V_q /
-  // thickness, mass = density * sum V_q. Its mass is not lost: it was lumped onto control points and
-  // shear particles when the patch was built and stays there.
-  double rigid_area = 0, rigid_mass = 0;
-  double removed_area = 0, removed_mass = 0;
-  size_t slivers() const { return points[static_cast<size_t>(BasisLevel::Rigid)] + points[static_cast<size_t>(BasisLevel::Removed)]; }
-};
-
-// What one crack update changed (thesis sec. 4.6: bases are rebuilt only where new segments touch).
-struct CrackUpdate {
-  size_t examined = 0;     // points whose support new crack segments touch
-  size_t mls_points = 0;   // in-plane points with an MLS basis after the update (levels Quadratic..Fragment)
-  size_t mls_shear = 0;    // shear particles with an MLS basis after the update
-  size_t failures = 0;     // census.failures: material without a basis (0 unless the chain failed)
-  std::string first_failure;  // the first point of this update the chain failed for, with the reason
-  std::string first_sliver;   // the first point of this update that became Rigid or Removed
-  BasisCensus census;      // the whole patch after the update
-};
-
 // Where a force evaluation failed: an inverted or degenerate quadrature point.
 struct ForceFailure {
   bool failed = false;
@@ -107,12 +70,18 @@ enum class ForceKernel { Batched, BatchedGathered, BatchedScalarMls, Scalar };
 
 // One NURBS patch of a Kirchhoff-Love shell, discretised as in thesis sec. 4.3:
 //  - Type II particles: the control points (position, velocity, lumped mass) — the advected DOFs;
+//  - Type III particles: one per cell, for shear and compression;
 //  - Type IV particles: massless quadrature points, a stencil per cell on 1 or 3 layers, whose basis
 //    derivatives (values, first and second) are computed once from their parameter coordinates and
 //    reused every step.
 // compute_forces() evaluates the Kirchhoff-Love generalised force on every control point
 // (thesis Eq. 4.8 with the in-plane stress of sec. 4.5).
-class ShellPatch {
+//
+// The patch is its particles (PatchParticles, which the grid transfers read and write directly) plus
+// plain parts, each in its own header: the quadrature and its lane layout, the material state, the
+// crack-cut bases, the step stiffness with the added mass, and the force gather. Its methods coordinate
+// the parts; the work that needs one part only is a free function next to that part.
+class ShellPatch : public PatchParticles {
  public:
   ShellPatch(const nurbs::NurbsSurface& reference, const ShellMaterial& material,
              const QuadratureRule& rule = QuadratureRule{});
@@ -123,18 +92,10 @@ class ShellPatch {
   nurbs::NurbsSurface current_surface() const;
 
   size_t num_control_points() const { return x.size(); }
-  size_t num_cells() const { return num_cells_; }
-  size_t num_inplane_points() const { return param_.size(); }
-  size_t num_quadrature_points() const { return param_.size() * layers_.xi3.size(); }
-  int num_layers() const { return static_cast<int>(layers_.xi3.size()); }
-
-  // Type II state (structure of arrays).
-  std::vector<Vec3> x, v;
-  std::vector<double> mass;
-  std::vector<Vec3> force;  // Kirchhoff-Love force per control point, written by compute_forces
-
-  // Type III state.
-  ShearParticles shear;
+  size_t num_cells() const { return quad_.num_cells; }
+  size_t num_inplane_points() const { return quad_.param.size(); }
+  size_t num_quadrature_points() const { return quad_.param.size() * quad_.num_layers(); }
+  int num_layers() const { return static_cast<int>(quad_.num_layers()); }
 
   // Overwrites `force` with -dPsi/dx for the current positions (Type IV Kirchhoff-Love force plus the
   // Type III tangent-plane part), and fills shear.stress for the grid. Stops at the first degenerate point.
@@ -149,7 +110,7 @@ class ShellPatch {
   // Largest accumulated equivalent plastic strain over the layer points (0 when elastic).
   double max_plastic_strain() const;
   // Accumulated equivalent plastic strain per layer point, index q * num_layers() + layer (empty when elastic).
-  const std::vector<double>& plastic_strain_values() const { return plastic_strain_; }
+  const std::vector<double>& plastic_strain_values() const { return state_.plastic_strain; }
   // Total elastic energy Psi = sum_q V_q psi(F_q) of the current configuration.
   double elastic_energy() const;
   // Per in-plane point, the largest absolute principal in-plane Cauchy stress on the mid-surface of the
@@ -165,33 +126,33 @@ class ShellPatch {
   std::vector<Mat3> deformation_gradients() const;
 
   // Fracture state of the Type IV points (thesis sec. 4.4.1), present only when material.fracture is on.
-  bool fractures() const { return !damage_.empty(); }
+  bool fractures() const { return state_.fractures(); }
   // Failure stress sigma_f and brittleness H (thesis Eq. 2.28) of in-plane point q (all layers). H depends
   // on sigma_f and on the grid's characteristic length, so the caller computes both; scene regions
   // override the material values point by point.
-  double failure_stress(size_t q) const { return failure_stress_[q]; }
-  double brittleness(size_t q) const { return brittleness_[q]; }
+  double failure_stress(size_t q) const { return state_.failure_stress[q]; }
+  double brittleness(size_t q) const { return state_.brittleness[q]; }
   void set_failure_stress(size_t q, double sigma_f, double brittleness) {
-    failure_stress_[q] = sigma_f;
-    brittleness_[q] = brittleness;
+    state_.failure_stress[q] = sigma_f;
+    state_.brittleness[q] = brittleness;
   }
   // Sets the material's brittleness at every point (before regions override it).
   void set_brittleness(double h) {
     material_.brittleness = h;
-    std::fill(brittleness_.begin(), brittleness_.end(), h);
+    std::fill(state_.brittleness.begin(), state_.brittleness.end(), h);
   }
   // Parameter coordinates of all in-plane points (the crack extraction's samples).
-  const std::vector<Vec2>& inplane_parameters() const { return param_; }
+  const std::vector<Vec2>& inplane_parameters() const { return quad_.param; }
   // Typical spacing of the in-plane points in parameter space.
   double parameter_spacing() const;
   // Damage c and its history c_his of layer point (q, layer).
-  double damage(size_t q, int layer) const { return damage_[q * layers_.xi3.size() + static_cast<size_t>(layer)]; }
+  double damage(size_t q, int layer) const { return state_.damage[q * quad_.num_layers() + static_cast<size_t>(layer)]; }
   double damage_history(size_t q, int layer) const {
-    return damage_history_[q * layers_.xi3.size() + static_cast<size_t>(layer)];
+    return state_.damage_history[q * quad_.num_layers() + static_cast<size_t>(layer)];
   }
   // All of c and c_his, index q * num_layers() + layer (empty when the material does not fracture).
-  const std::vector<double>& damage_values() const { return damage_; }
-  const std::vector<double>& damage_history_values() const { return damage_history_; }
+  const std::vector<double>& damage_values() const { return state_.damage; }
+  const std::vector<double>& damage_history_values() const { return state_.damage_history; }
   // Per in-plane point: 1 when the damage history of any layer reached 1 (the crack extraction's input).
   std::vector<unsigned char> fully_damaged_points() const;
   // How many in-plane points fully_damaged_points() marks, without building the list.
@@ -206,23 +167,23 @@ class ShellPatch {
   CrackUpdate update_crack(const crack2d::CrackIndex& index, size_t first_new_edge, const MlsSettings& settings);
   // The same with the fallback chain's own settings (chain.mls replaces `settings` above).
   CrackUpdate update_crack(const crack2d::CrackIndex& index, size_t first_new_edge, const BasisChainSettings& chain);
-  const crack2d::CrackIndex* crack() const { return crack_; }
-  size_t num_mls_points() const { return num_mls_points_; }
+  const crack2d::CrackIndex* crack() const { return cut_.crack; }
+  size_t num_mls_points() const { return cut_.num_mls_points; }
   // MLS points whose forces the batched kernel computes (the rest of them run the scalar kernel).
-  size_t num_batched_mls_points() const { return static_cast<size_t>(std::count(mls_batched_.begin(), mls_batched_.end(), 1)); }
+  size_t num_batched_mls_points() const { return static_cast<size_t>(std::count(mls_lanes_.batched.begin(), mls_lanes_.batched.end(), 1)); }
   // Material without a basis (census().failures); 0 unless the fallback chain failed somewhere.
-  size_t num_mls_failures() const { return census_.failures; }
-  const BasisCensus& census() const { return census_; }
+  size_t num_mls_failures() const { return cut_.census.failures; }
+  const BasisCensus& census() const { return cut_.census; }
   // Basis level of in-plane point q / shear particle c.
   BasisLevel point_level(size_t q) const;
   BasisLevel shear_level(size_t c) const;
   // Parameter location of control point k (its Greville point) and of shear particle c (cell centre).
-  Vec2 control_parameter(size_t k) const { return control_grid_.point(static_cast<int>(k)); }
-  const Vec2& shear_parameter(size_t c) const { return cell_center_[c]; }
+  Vec2 control_parameter(size_t k) const { return quad_.control_grid.point(static_cast<int>(k)); }
+  const Vec2& shear_parameter(size_t c) const { return quad_.cell_center[c]; }
   // Per control point / shear particle: non-zero when it takes part in an MLS basis (the particles
   // whose grid nodes get phantom copies, thesis sec. 4.7.1).
-  const std::vector<unsigned char>& control_near_crack() const { return control_near_crack_; }
-  const std::vector<unsigned char>& shear_near_crack() const { return shear_near_crack_; }
+  const std::vector<unsigned char>& control_near_crack() const { return cut_.control_near_crack; }
+  const std::vector<unsigned char>& shear_near_crack() const { return cut_.shear_near_crack; }
   // Current mid-surface point at parameter uv (render vertices, thesis sec. 4.9.3): NURBS, or, when the
   // crack separates uv from part of its NURBS support, the same fallback chain as the quadrature points,
   // so a vertex never averages across a crack. level == Removed: uv lies in a fragment without control
@@ -254,26 +215,19 @@ class ShellPatch {
 
   // Parameter coordinate and basis (value per support control point) of in-plane point q; support
   // control point indices of its cell.
-  const Vec2& parameter(size_t q) const { return param_[q]; }
-  const int* support(size_t cell) const { return &support_[cell * support_size_]; }
-  int support_size() const { return support_size_; }
-  size_t cell_of(size_t q) const { return q / points_per_cell_; }
+  const Vec2& parameter(size_t q) const { return quad_.param[q]; }
+  const int* support(size_t cell) const { return quad_.cell_support(cell); }
+  int support_size() const { return quad_.support_size; }
+  size_t cell_of(size_t q) const { return quad_.cell_of(q); }
 
   // r_33 of the QR decomposition of cell c's Type III F = [a_1 a_2 d_3] D^-1 (the director's normal stretch).
   double director_stretch(size_t c) const;
 
-  // How stiff the current bases make the explicit step. For every control point i, a Gershgorin row sum of
-  // the basis-gradient products over the points q that use it, divided by its mass:
-  //   membrane  max_i sum_q V_q a_iq (sum_j a_jq) / m_i,  a_kq = |(l_u R_k,1, l_v R_k,2)|   (cell units)
-  //   bending   the same with the second derivatives (l_a l_b R_k,ab), over points with a curvature.
-  // The largest eigenvalue of M^-1 K of either term is bounded by its value times the material constant, so
-  // the elastic-wave bound, calibrated on the uncut NURBS bases, scales by sqrt(reference / current).
-  // MLS fits next to crack junctions have gradients several times a NURBS one's (docs/mls.md).
-  struct BasisStiffness {
-    double membrane = 0, bending = 0;
-  };
-  const BasisStiffness& basis_stiffness() const { return basis_stiffness_; }
-  const BasisStiffness& reference_basis_stiffness() const { return reference_stiffness_; }
+  // How stiff the current bases make the explicit step (shell/basis_stiffness.hpp): the largest row sum
+  // per mass of the basis-gradient products, membrane and bending, now and for the uncut NURBS bases. MLS
+  // fits next to crack junctions have gradients several times a NURBS one's (docs/mls.md).
+  const BasisStiffness& basis_stiffness() const { return stiffness_.current; }
+  const BasisStiffness& reference_basis_stiffness() const { return stiffness_.reference; }
   // sqrt(reference / current) of each term, at most 1: the factors on the membrane and bending wave bounds.
   double membrane_step_scale() const;
   double bending_step_scale() const;
@@ -283,17 +237,13 @@ class ShellPatch {
   // within `budget` x the patch's control-point mass; beyond the budget the stiffest points keep a ratio
   // kappa > 1 and the step shrinks by 1 / sqrt(kappa). 0 (the default) adds none. The added mass moves
   // with the point (World::refresh_control_mass) and carries momentum like the rest.
-  void set_mass_scaling_budget(double budget) { mass_scaling_budget_ = budget; }
-  const std::vector<double>& added_mass() const { return added_mass_; }
+  void set_mass_scaling_budget(double budget) { stiffness_.mass_scaling_budget = budget; }
+  const std::vector<double>& added_mass() const { return stiffness_.added_mass; }
   double added_mass_total() const;
   double control_mass_total() const;
 
  private:
-  // The damage history of some layer of in-plane point q reached 1 (damage_history_ not empty).
-  bool point_fully_damaged(size_t q) const;
-  void build_quadrature(const QuadratureRule& rule);
   void build_masses();
-  void build_force_gather();
   void build_shear_particles();
   // The basis a point uses: its support control points, basis values (stride: R, R_1, R_2[, 2nd
   // derivatives]) and where its forces on them go (the cell's slots, or its MLS support's own).
@@ -303,7 +253,6 @@ class ShellPatch {
     const double* basis;
     int stride;
   };
-  static constexpr int kBasisStride = 6;  // R, R_1, R_2, R_11, R_12, R_22 per support control point
   static constexpr int kShearStride = 3;  // R, R_1, R_2 per support control point of a NURBS shear particle
   BasisView point_basis(size_t q) const;
   BasisView slot_view(int32_t slot) const;
@@ -316,20 +265,7 @@ class ShellPatch {
   Vec3* shear_force_target(size_t c);
   // Type III force of cell c on its support control points and its grid stress term.
   bool add_shear_force(size_t c);
-  // MLS basis of one point (stride 6: R, R_1, R_2, R_11, R_12, R_22 per support control point) and
-  // the forces on its support control points from the last force pass.
-  struct MlsSupport {
-    std::vector<int> index;
-    std::vector<double> basis;
-    std::vector<Vec3> force;
-    double reach = 1.5;  // half-width in cells of the box whose cracks the basis depends on
-    BasisLevel level = BasisLevel::Quadratic;
-    int order = 2;                  // 1: linear basis, second derivatives zero (membrane only)
-    Vec3 rigid_offset = Vec3::Zero();  // Rigid: reference position minus sum R_k X_k (a translation)
-    bool nudged = false;               // the point lay on a crack line (evaluated 1e-9 cells to one side)
-    bool chain_failed = false;         // Rigid although its fragment spans a plane (census.failures)
-  };
-  // The fallback chain at xi over the current crack, and its result as a support (stride 6).
+  // The fallback chain at xi over the current crack, and its result as a support (stride kBasisStride).
   PointFit fit_chain(const Vec2& xi, BasisChainWork& work) const;
   void fill_support(const PointFit& fit, const MlsBasis& basis, MlsSupport& out) const;
   // Position from a support: sum R_k x_k (+ the rigid offset).
@@ -338,82 +274,31 @@ class ShellPatch {
   bool nurbs_support_cut(const Vec2& xi, size_t cell, const crack2d::CrackIndex& index) const;
   // The census of the whole patch's bases (a point can move down the chain when the crack around it grows).
   BasisCensus count_bases() const;
-  void rebuild_mls_gather();
-  // Groups the MLS points the batched kernel can take into lanes (mls_batches_), after every basis change.
+  // Groups the MLS points the batched kernel can take into lanes (mls_lanes_), after every basis change.
   void build_mls_lanes();
-  // The Type IV forces of the MLS points in mls_batches_ (into their supports' own slots); a failing lane
+  // The Type IV forces of the MLS points in mls_lanes_ (into their supports' own slots); a failing lane
   // marks its cell in cell_failed.
   void mls_batch_forces(const Type4Data& data, bool with_director, std::vector<unsigned char>& cell_failed);
-
   // The patch's arrays and constants as the Type IV kernels read them.
   Type4Data type4_data();
-  // Lays the NURBS basis derivatives out in lanes of eight consecutive points (basis_lanes_).
-  void build_basis_lanes();
   // Position of shear particle c (thesis Eq. 4.10) and the surface tangents a_1, a_2 there.
   Vec3 shear_particle_frame(size_t c, Vec3& a1, Vec3& a2) const;
   // R of the QR decomposition of cell c's Type III F = [a_1 a_2 d_3] D^-1.
   Mat3 director_r(size_t c) const;
+  // The row sums of the current bases (shell/basis_stiffness.hpp).
+  BasisRows basis_rows() const;
 
   nurbs::NurbsSurface reference_;
   ShellMaterial material_;
-  LayerRule layers_;
-  int support_size_ = 0;
-  size_t num_cells_ = 0, points_per_cell_ = 0;
-  std::vector<int> support_;        // cells x support_size control point indices
-  std::vector<Vec2> param_;         // in-plane points, grouped by cell
-  std::vector<Vec2> cell_center_;   // parameter centre of each cell
-  std::vector<double> basis_;       // in-plane points x support x {R, R1, R2, R11, R12, R22}
-  // The same NURBS derivatives R_1 .. R_22 for the batched kernel: batch of 8 consecutive points x support x
-  // 5 x 8 lanes (Type4Batch::basis); the last batch is padded with zeros.
-  std::vector<double> basis_lanes_;
-  std::vector<double> ref_lanes_;     // [batch][layer][g11 g12 g22 1/sqrt_det][lane], as basis_lanes_
-  std::vector<double> volume_lanes_;  // [batch][layer][lane]
+  // The parts (each a plain struct in its own header; the free functions there work on them):
+  PatchQuadrature quad_;        // Type IV points, their NURBS bases, rest metrics and volumes
+  BasisLanes lanes_;            // the same in the batched kernel's lane order
+  PointMaterialState state_;    // plastic strain, damage and its history, per-point strength
+  CrackBases cut_;              // fallback bases of the points a crack cut off, their census and gather
+  MlsLanes mls_lanes_;          // the fallback-basis points the batched kernel takes, in lanes
+  StepStiffness stiffness_;     // basis stiffness for the step bound, and the added mass
+  ForceGather gather_;          // per-cell force slots and their fixed-order gather
   ForceKernel force_kernel_ = ForceKernel::Batched;
-  std::vector<ReferenceLayer> ref_; // in-plane points x layers: rest metric (rewritten by plasticity)
-  std::vector<double> plastic_strain_;  // in-plane points x layers, only for plastic materials
-  std::vector<double> volume_;      // in-plane points x layers: V_q
-  std::vector<double> damage_, damage_history_;  // in-plane points x layers, only for fracturing materials
-  std::vector<double> failure_stress_, brittleness_;  // in-plane points, only for fracturing materials
-  // Crack state (thesis sec. 4.6): supports of the points the crack separates from their NURBS support
-  // (slot -1 = NURBS basis); each slot records its fallback level.
-  const crack2d::CrackIndex* crack_ = nullptr;
-  BasisChainSettings chain_settings_;  // from the last update_crack
-  crack2d::CrackPortals portals_;      // crack corners for the fragment paths, rebuilt with the crack
-  BasisCensus census_;
-  ControlGrid control_grid_;
-  std::vector<int32_t> point_slot_, shear_slot_;
-  std::vector<MlsSupport> slots_;
-  std::vector<unsigned char> control_near_crack_, shear_near_crack_;
-  std::vector<int> mls_gather_offsets_;             // control point -> entries of mls_gather_
-  std::vector<std::pair<int, int>> mls_gather_;     // (slot, support entry)
-  size_t num_mls_points_ = 0;
-  // MLS points with stress and curvature, sorted by support size and then by point, eight to a batch for
-  // the batched kernel (the last one padded with inactive lanes). A lane whose support is smaller than the
-  // batch's n repeats its first control point with zero basis derivatives, which adds exact zeros.
-  struct MlsLaneBatch {
-    int n = 0;
-    unsigned active = 0;
-    size_t q[kType4Lanes] = {};
-    size_t first = 0;  // offset of the batch's lanes in mls_lane_support_ (n per lane) and mls_lane_basis_
-  };
-  std::vector<MlsLaneBatch> mls_batches_;
-  std::vector<int> mls_lane_support_;      // [batch][lane][n]
-  std::vector<double> mls_lane_basis_;     // [batch][n][5][lane], as basis_lanes_
-  std::vector<unsigned char> mls_batched_;  // per in-plane point: its force comes from mls_batches_
-  BasisStiffness reference_stiffness_, basis_stiffness_;  // of the uncut NURBS bases; of the current ones
-  // The row sums of basis_stiffness per control point, before dividing by the mass.
-  struct BasisRows {
-    std::vector<double> membrane, bending;
-  };
-  BasisRows basis_rows() const;
-  BasisStiffness stiffness_of(const BasisRows& rows) const;  // with the added mass
-  void choose_added_mass(const BasisRows& rows);
-  double mass_scaling_budget_ = 0;
-  std::vector<double> added_mass_;  // per control point, >= 0
-  // Deterministic gather of per-cell forces: control point c receives cell_force_[gather_[k]] for
-  // k in gather_offsets_[c] .. gather_offsets_[c+1].
-  std::vector<Vec3> cell_force_;
-  std::vector<int> gather_offsets_, gather_;
 };
 
 }  // namespace shellfrac::shell

@@ -69,13 +69,13 @@ void merge_point_results(std::vector<PointResult>& results, size_t np, std::vect
 
 bool ShellPatch::nurbs_support_cut(const Vec2& xi, size_t cell, const crack2d::CrackIndex& index) const {
   const int* sup = support(cell);
-  for (int s = 0; s < support_size_; ++s)
-    if (index.crosses(xi, control_grid_.point(sup[s]))) return true;
+  for (int s = 0; s < quad_.support_size; ++s)
+    if (index.crosses(xi, quad_.control_grid.point(sup[s]))) return true;
   return false;
 }
 
 PointFit ShellPatch::fit_chain(const Vec2& xi, BasisChainWork& work) const {
-  return fit_point_basis(xi, control_grid_, *crack_, portals_, chain_settings_, work);
+  return fit_point_basis(xi, quad_.control_grid, *cut_.crack, cut_.portals, cut_.chain_settings, work);
 }
 
 void ShellPatch::fill_support(const PointFit& fit, const MlsBasis& b, MlsSupport& out) const {
@@ -114,32 +114,32 @@ Vec3 ShellPatch::support_position(const MlsSupport& m) const {
 }
 
 BasisLevel ShellPatch::point_level(size_t q) const {
-  const int32_t s = point_slot_[q];
-  return s < 0 ? BasisLevel::Nurbs : slots_[static_cast<size_t>(s)].level;
+  const int32_t s = cut_.point_slot[q];
+  return s < 0 ? BasisLevel::Nurbs : cut_.slots[static_cast<size_t>(s)].level;
 }
 
 BasisLevel ShellPatch::shear_level(size_t c) const {
-  const int32_t s = shear_slot_[c];
-  return s < 0 ? BasisLevel::Nurbs : slots_[static_cast<size_t>(s)].level;
+  const int32_t s = cut_.shear_slot[c];
+  return s < 0 ? BasisLevel::Nurbs : cut_.slots[static_cast<size_t>(s)].level;
 }
 
 CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t first_new_edge,
                                      const MlsSettings& settings) {
-  BasisChainSettings chain = chain_settings_;
+  BasisChainSettings chain = cut_.chain_settings;
   chain.mls = settings;
   return update_crack(index, first_new_edge, chain);
 }
 
 CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t first_new_edge,
                                      const BasisChainSettings& chain) {
-  crack_ = &index;
-  chain_settings_ = chain;
-  const double lu = control_grid_.cell_u, lv = control_grid_.cell_v;
-  if (portals_.built_for_segments() != index.num_segments() || index.num_segments() == 0)
-    portals_.build(index, kPortalOffset * std::min(lu, lv));
+  cut_.crack = &index;
+  cut_.chain_settings = chain;
+  const double lu = quad_.control_grid.cell_u, lv = quad_.control_grid.cell_v;
+  if (cut_.portals.built_for_segments() != index.num_segments() || index.num_segments() == 0)
+    cut_.portals.build(index, kPortalOffset * std::min(lu, lv));
   CrackUpdate report;
   // Parameter points: in-plane points first, then shear particles (cell centres).
-  const size_t np = param_.size(), total = np + num_cells_;
+  const size_t np = quad_.param.size(), total = np + quad_.num_cells;
   std::vector<PointResult> results(total);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, total, 64), [&](const tbb::blocked_range<size_t>& r) {
     BasisChainWork work;
@@ -147,11 +147,11 @@ CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t fi
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const bool is_shear = i >= np;
       const size_t id = is_shear ? i - np : i;
-      const Vec2& xi = is_shear ? cell_center_[id] : param_[id];
-      const int32_t slot = is_shear ? shear_slot_[id] : point_slot_[id];
+      const Vec2& xi = is_shear ? quad_.cell_center[id] : quad_.param[id];
+      const int32_t slot = is_shear ? cut_.shear_slot[id] : cut_.point_slot[id];
       // Only points whose support the new segments touch are re-examined (thesis sec. 4.6); a slot's reach
       // covers every crack its basis depends on (paths and fragment searches included).
-      const double reach = slot >= 0 ? slots_[static_cast<size_t>(slot)].reach : 1.5 * (1.0 + 1e-9);
+      const double reach = slot >= 0 ? cut_.slots[static_cast<size_t>(slot)].reach : 1.5 * (1.0 + 1e-9);
       if (!index.touches(box_around(xi, reach * lu, reach * lv), first_new_edge)) continue;
       PointResult& res = results[i];
       const size_t cell = is_shear ? id : cell_of(id);
@@ -168,49 +168,47 @@ CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t fi
     }
   });
 
-  merge_point_results(results, np, point_slot_, shear_slot_, slots_, report);
+  merge_point_results(results, np, cut_.point_slot, cut_.shear_slot, cut_.slots, report);
   const BasisCensus census = count_bases();
-  census_ = census;
+  cut_.census = census;
   report.census = census;
   report.failures = census.failures;
-  rebuild_mls_gather();
+  rebuild_gather(cut_);
   build_mls_lanes();
-  for (int32_t s : point_slot_) report.mls_points += s >= 0 && slots_[static_cast<size_t>(s)].level < BasisLevel::Rigid;
-  for (int32_t s : shear_slot_) report.mls_shear += s >= 0 && slots_[static_cast<size_t>(s)].level < BasisLevel::Rigid;
-  num_mls_points_ = report.mls_points;
+  for (int32_t s : cut_.point_slot) report.mls_points += s >= 0 && cut_.slots[static_cast<size_t>(s)].level < BasisLevel::Rigid;
+  for (int32_t s : cut_.shear_slot) report.mls_shear += s >= 0 && cut_.slots[static_cast<size_t>(s)].level < BasisLevel::Rigid;
+  cut_.num_mls_points = report.mls_points;
   const BasisRows rows = basis_rows();
-  choose_added_mass(rows);
-  basis_stiffness_ = stiffness_of(rows);
+  choose_added_mass(rows, mass, stiffness_.reference, stiffness_.mass_scaling_budget, stiffness_.added_mass);
+  stiffness_.current = stiffness_of(rows, mass, stiffness_.added_mass);
   return report;
 }
 
 BasisCensus ShellPatch::count_bases() const {
-  const size_t np = param_.size();
+  const size_t np = quad_.param.size();
   BasisCensus census;
-  for (const int32_t* slot_of : {point_slot_.data(), shear_slot_.data()})
-    for (size_t i = 0; i < (slot_of == point_slot_.data() ? np : num_cells_); ++i) {
+  for (const int32_t* slot_of : {cut_.point_slot.data(), cut_.shear_slot.data()})
+    for (size_t i = 0; i < (slot_of == cut_.point_slot.data() ? np : quad_.num_cells); ++i) {
       if (slot_of[i] < 0) continue;
-      const MlsSupport& m = slots_[static_cast<size_t>(slot_of[i])];
+      const MlsSupport& m = cut_.slots[static_cast<size_t>(slot_of[i])];
       census.nudged += m.nudged;
       census.failures += m.chain_failed;
     }
-  const size_t L = layers_.xi3.size();
   for (size_t q = 0; q < np; ++q) {
     const BasisLevel level = point_level(q);
     ++census.points[static_cast<size_t>(level)];
-    if (point_slot_[q] >= 0 && slots_[static_cast<size_t>(point_slot_[q])].order == 1) ++census.membrane_only;
+    if (cut_.point_slot[q] >= 0 && cut_.slots[static_cast<size_t>(cut_.point_slot[q])].order == 1) ++census.membrane_only;
     if (level < BasisLevel::Rigid) continue;
-    double V = 0;
-    for (size_t l = 0; l < L; ++l) V += volume_[q * L + l];
+    const double V = quad_.point_volume(q);
     (level == BasisLevel::Rigid ? census.rigid_area : census.removed_area) += V / material_.thickness;
     (level == BasisLevel::Rigid ? census.rigid_mass : census.removed_mass) += material_.density * V;
   }
-  for (size_t c = 0; c < num_cells_; ++c) ++census.shear[static_cast<size_t>(shear_level(c))];
+  for (size_t c = 0; c < quad_.num_cells; ++c) ++census.shear[static_cast<size_t>(shear_level(c))];
   return census;
 }
 
-ShellPatch::BasisRows ShellPatch::basis_rows() const {
-  const double lu = control_grid_.cell_u, lv = control_grid_.cell_v;
+BasisRows ShellPatch::basis_rows() const {
+  const double lu = quad_.control_grid.cell_u, lv = quad_.control_grid.cell_v;
   std::vector<double> membrane(x.size(), 0.0), bending(x.size(), 0.0);
   std::vector<double> a, b;
   // One point's share of the row sums: V a_i (sum_j a_j) for every support control point i.
@@ -233,73 +231,23 @@ ShellPatch::BasisRows ShellPatch::basis_rows() const {
       bending[i] += V * b[static_cast<size_t>(s)] * sum_b;
     }
   };
-  const size_t L = layers_.xi3.size();
-  for (size_t q = 0; q < param_.size(); ++q) {
-    const int32_t slot = point_slot_.empty() ? -1 : point_slot_[q];
-    const MlsSupport* m = slot >= 0 ? &slots_[static_cast<size_t>(slot)] : nullptr;
+  for (size_t q = 0; q < quad_.param.size(); ++q) {
+    const int32_t slot = cut_.point_slot.empty() ? -1 : cut_.point_slot[q];
+    const MlsSupport* m = slot >= 0 ? &cut_.slots[static_cast<size_t>(slot)] : nullptr;
     if (m && m->level >= BasisLevel::Rigid) continue;  // carries no stress
-    double V = 0;
-    for (size_t l = 0; l < L; ++l) V += volume_[q * L + l];
-    add_point(point_basis(q), V, !(m && m->order == 1));
+    add_point(point_basis(q), quad_.point_volume(q), !(m && m->order == 1));
   }
-  for (size_t c = 0; c < num_cells_; ++c) {  // Type III: first derivatives only (tangents a_1, a_2)
-    const int32_t slot = shear_slot_.empty() ? -1 : shear_slot_[c];
-    if (slot >= 0 && slots_[static_cast<size_t>(slot)].level >= BasisLevel::Rigid) continue;
+  for (size_t c = 0; c < quad_.num_cells; ++c) {  // Type III: first derivatives only (tangents a_1, a_2)
+    const int32_t slot = cut_.shear_slot.empty() ? -1 : cut_.shear_slot[c];
+    if (slot >= 0 && cut_.slots[static_cast<size_t>(slot)].level >= BasisLevel::Rigid) continue;
     add_point(shear_basis(c), shear.volume[c], false);
   }
   return {std::move(membrane), std::move(bending)};
 }
 
-ShellPatch::BasisStiffness ShellPatch::stiffness_of(const BasisRows& rows) const {
-  BasisStiffness out;
-  for (size_t i = 0; i < x.size(); ++i) {
-    if (!(mass[i] > 0)) continue;
-    const double m = mass[i] + added_mass_[i];
-    out.membrane = std::max(out.membrane, rows.membrane[i] / m);
-    out.bending = std::max(out.bending, rows.bending[i] / m);
-  }
-  return out;
-}
-
-void ShellPatch::choose_added_mass(const BasisRows& rows) {
-  std::fill(added_mass_.begin(), added_mass_.end(), 0.0);
-  if (!(mass_scaling_budget_ > 0)) return;
-  // Added mass for a ratio kappa above the uncut sheet's: m_i' = max(m_i, k_i / (kappa k_ref)) per term.
-  // Points within round-off of the reference ratio get none, so an uncut patch stays bit-for-bit the same.
-  auto need = [&](double kappa, size_t i) {
-    double m = mass[i];
-    auto raise = [&](double row, double reference) {
-      const double target = kappa * reference * (1 + 1e-9);
-      if (reference > 0 && row > target * m) m = row / target;
-    };
-    raise(rows.membrane[i], reference_stiffness_.membrane);
-    raise(rows.bending[i], reference_stiffness_.bending);
-    return m - mass[i];
-  };
-  auto total = [&](double kappa) {
-    double sum = 0;
-    for (size_t i = 0; i < x.size(); ++i)
-      if (mass[i] > 0) sum += need(kappa, i);
-    return sum;
-  };
-  const double budget = mass_scaling_budget_ * control_mass_total();
-  // The smallest kappa >= 1 whose added mass fits the budget (the total falls as kappa grows).
-  double lo = 1.0, hi = 1.0;
-  if (total(1.0) > budget) {
-    while (total(hi) > budget && hi < 1e12) hi *= 2;
-    for (int it = 0; it < 60; ++it) {
-      const double mid = std::sqrt(lo * hi);
-      (total(mid) > budget ? lo : hi) = mid;
-    }
-    lo = hi;
-  }
-  for (size_t i = 0; i < x.size(); ++i)
-    if (mass[i] > 0) added_mass_[i] = need(lo, i);
-}
-
 double ShellPatch::added_mass_total() const {
   double sum = 0;
-  for (double m : added_mass_) sum += m;
+  for (double m : stiffness_.added_mass) sum += m;
   return sum;
 }
 
@@ -310,45 +258,27 @@ double ShellPatch::control_mass_total() const {
 }
 
 double ShellPatch::membrane_step_scale() const {
-  if (!(basis_stiffness_.membrane > reference_stiffness_.membrane)) return 1.0;
-  return std::sqrt(reference_stiffness_.membrane / basis_stiffness_.membrane);
+  if (!(stiffness_.current.membrane > stiffness_.reference.membrane)) return 1.0;
+  return std::sqrt(stiffness_.reference.membrane / stiffness_.current.membrane);
 }
 
 double ShellPatch::bending_step_scale() const {
-  if (!(basis_stiffness_.bending > reference_stiffness_.bending)) return 1.0;
-  return std::sqrt(reference_stiffness_.bending / basis_stiffness_.bending);
-}
-
-void ShellPatch::rebuild_mls_gather() {
-  // Control point -> (slot, entry) in slot order: a fixed summation order for the force gather.
-  std::fill(mls_gather_offsets_.begin(), mls_gather_offsets_.end(), 0);
-  std::fill(control_near_crack_.begin(), control_near_crack_.end(), 0);
-  for (const MlsSupport& m : slots_)
-    for (int k : m.index) ++mls_gather_offsets_[static_cast<size_t>(k) + 1];
-  for (size_t i = 0; i < x.size(); ++i) mls_gather_offsets_[i + 1] += mls_gather_offsets_[i];
-  mls_gather_.resize(static_cast<size_t>(mls_gather_offsets_.back()));
-  std::vector<int> cursor(mls_gather_offsets_.begin(), mls_gather_offsets_.end() - 1);
-  for (size_t s = 0; s < slots_.size(); ++s)
-    for (size_t e = 0; e < slots_[s].index.size(); ++e) {
-      const auto k = static_cast<size_t>(slots_[s].index[e]);
-      mls_gather_[static_cast<size_t>(cursor[k]++)] = {static_cast<int>(s), static_cast<int>(e)};
-      control_near_crack_[k] = 1;
-    }
-  for (size_t c = 0; c < num_cells_; ++c) shear_near_crack_[c] = shear_slot_[c] != -1;
+  if (!(stiffness_.current.bending > stiffness_.reference.bending)) return 1.0;
+  return std::sqrt(stiffness_.reference.bending / stiffness_.current.bending);
 }
 
 void ShellPatch::build_mls_lanes() {
-  mls_batches_.clear();
-  mls_lane_support_.clear();
-  mls_lane_basis_.clear();
-  mls_batched_.assign(param_.size(), 0);
+  mls_lanes_.batches.clear();
+  mls_lanes_.support.clear();
+  mls_lanes_.basis.clear();
+  mls_lanes_.batched.assign(quad_.param.size(), 0);
   // Membrane-only (linear) bases keep the scalar kernel, which drops the curvature for them; so do
   // supports larger than the kernel's result holds.
   std::vector<std::pair<size_t, size_t>> points;  // (support size, point)
-  for (size_t q = 0; q < param_.size(); ++q) {
-    const int32_t slot = point_slot_[q];
+  for (size_t q = 0; q < quad_.param.size(); ++q) {
+    const int32_t slot = cut_.point_slot[q];
     if (slot < 0) continue;
-    const MlsSupport& m = slots_[static_cast<size_t>(slot)];
+    const MlsSupport& m = cut_.slots[static_cast<size_t>(slot)];
     if (m.level >= BasisLevel::Rigid || m.order == 1 || m.index.empty() ||
         m.index.size() > static_cast<size_t>(kType4MaxSupport))
       continue;
@@ -361,26 +291,26 @@ void ShellPatch::build_mls_lanes() {
     const size_t used = std::min(lanes, points.size() - b);
     MlsLaneBatch batch;
     batch.n = static_cast<int>(points[b + used - 1].first);
-    batch.first = mls_lane_support_.size();
+    batch.first = mls_lanes_.support.size();
     const size_t n = static_cast<size_t>(batch.n);
-    mls_lane_support_.resize(batch.first + lanes * n);
-    mls_lane_basis_.resize(5 * (batch.first + lanes * n), 0.0);
-    double* basis = mls_lane_basis_.data() + 5 * batch.first;
+    mls_lanes_.support.resize(batch.first + lanes * n);
+    mls_lanes_.basis.resize(5 * (batch.first + lanes * n), 0.0);
+    double* basis = mls_lanes_.basis.data() + 5 * batch.first;
     for (size_t i = 0; i < lanes; ++i) {
       // Padding lanes repeat the first point (valid data, never written back).
       const size_t q = points[b + (i < used ? i : 0)].second;
       batch.q[i] = q;
       if (i < used) {
         batch.active |= 1u << i;
-        mls_batched_[q] = 1;
+        mls_lanes_.batched[q] = 1;
       }
-      const MlsSupport& m = slots_[static_cast<size_t>(point_slot_[q])];
-      int* support = mls_lane_support_.data() + batch.first + i * n;
+      const MlsSupport& m = cut_.slots[static_cast<size_t>(cut_.point_slot[q])];
+      int* support = mls_lanes_.support.data() + batch.first + i * n;
       for (size_t s = 0; s < n; ++s) support[s] = m.index[s < m.index.size() ? s : 0];
       for (size_t s = 0; s < m.index.size(); ++s)
         for (size_t k = 0; k < 5; ++k) basis[(s * 5 + k) * lanes + i] = m.basis[s * kBasisStride + 1 + k];
     }
-    mls_batches_.push_back(batch);
+    mls_lanes_.batches.push_back(batch);
   }
 }
 
@@ -388,9 +318,9 @@ void ShellPatch::surface_stencil(const Vec2& uv, BasisChainWork& work, SurfaceSt
   nurbs::SurfaceBasis basis;
   reference_.rational_basis(uv.x(), uv.y(), basis);
   bool cut = false;
-  if (crack_ && crack_->num_segments() > 0)
+  if (cut_.crack && cut_.crack->num_segments() > 0)
     for (int k = 0; k < basis.count && !cut; ++k)
-      cut = crack_->crosses(uv, control_grid_.point(basis.index[static_cast<size_t>(k)]));
+      cut = cut_.crack->crosses(uv, quad_.control_grid.point(basis.index[static_cast<size_t>(k)]));
   out.offset.setZero();
   if (cut) {  // near the crack: the quadrature points' fallback chain, never the NURBS average
     const PointFit fit = fit_chain(uv, work);

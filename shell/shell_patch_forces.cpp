@@ -120,19 +120,19 @@ Type4Data ShellPatch::type4_data() {
   d.mid_surface = stress_model == StressModel::MidSurface2D || with_director;
   d.plastic = material_.plasticity.enabled;
   d.plasticity = material_.plasticity;
-  d.fracturing = !damage_.empty();
+  d.fracturing = !state_.damage.empty();
   d.monotone = material_.fracture.rule == DamageRule::Monotone;
   d.residual = material_.fracture.residual_stiffness;
   d.layers = num_layers();
-  d.xi3 = layers_.xi3.data();
+  d.xi3 = quad_.layers.xi3.data();
   d.x = x.data();
-  d.ref = ref_.data();
-  d.volume = volume_.data();
-  d.plastic_strain = plastic_strain_.data();
-  d.damage = damage_.data();
-  d.damage_history = damage_history_.data();
-  d.failure_stress = failure_stress_.data();
-  d.brittleness = brittleness_.data();
+  d.ref = quad_.ref.data();
+  d.volume = quad_.volume.data();
+  d.plastic_strain = state_.plastic_strain.data();
+  d.damage = state_.damage.data();
+  d.damage_history = state_.damage_history.data();
+  d.failure_stress = state_.failure_stress.data();
+  d.brittleness = state_.brittleness.data();
   return d;
 }
 
@@ -141,20 +141,20 @@ ForceFailure ShellPatch::compute_forces() {
   const bool with_director = material_.stress_model == StressModel::DirectorF2D;
   const bool batched = force_kernel_ != ForceKernel::Scalar && num_layers() <= kType4MaxLayers;
   const bool lane_volume = force_kernel_ == ForceKernel::Batched || force_kernel_ == ForceKernel::BatchedScalarMls;
-  // A plastic patch's rest metric changes, so its lanes are gathered from ref_ (build_basis_lanes).
+  // A plastic patch's rest metric changes, so its lanes are gathered from quad_.ref (build_basis_lanes).
   const bool lane_ref = lane_volume && !material_.plasticity.enabled;
   const bool mls_lanes = batched && force_kernel_ != ForceKernel::BatchedScalarMls;
-  const size_t n = static_cast<size_t>(support_size_);
-  std::vector<unsigned char> cell_failed(num_cells_, 0);
-  for (MlsSupport& m : slots_)
+  const size_t n = static_cast<size_t>(quad_.support_size);
+  std::vector<unsigned char> cell_failed(quad_.num_cells, 0);
+  for (MlsSupport& m : cut_.slots)
     for (Vec3& f : m.force) f.setZero();
 
   // Per cell: the Type IV forces of its points (cell slots for NURBS points, MLS supports' own slots
   // otherwise), then its Type III force. Each cell's slots are summed in point order, whichever kernel runs,
   // and no lane depends on the others, so the forces do not depend on the partition into threads.
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, num_cells_, 16), [&](const tbb::blocked_range<size_t>& r) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, quad_.num_cells, 16), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t c = r.begin(); c != r.end(); ++c)
-      for (size_t s = 0; s < n; ++s) cell_force_[c * n + s].setZero();
+      for (size_t s = 0; s < n; ++s) gather_.cell_force[c * n + s].setZero();
     // Jiang 2017: J = J_2D r_33, one QR per cell (the last cell's value is kept for its other points).
     size_t r33_cell = SIZE_MAX;
     double r33_value = 1.0;
@@ -170,8 +170,8 @@ ForceFailure ShellPatch::compute_forces() {
     // points when the scalar kernel is chosen. Rigid and removed slivers carry no stress.
     auto scalar_point = [&](size_t q) {
       const size_t c = cell_of(q);
-      const int32_t slot = point_slot_[q];
-      const MlsSupport* ms = slot >= 0 ? &slots_[static_cast<size_t>(slot)] : nullptr;
+      const int32_t slot = cut_.point_slot[q];
+      const MlsSupport* ms = slot >= 0 ? &cut_.slots[static_cast<size_t>(slot)] : nullptr;
       if (ms && ms->level >= BasisLevel::Rigid) return;
       const BasisView b = point_basis(q);
       // A linear basis has no curvature: every layer sees the mid-surface metric (membrane only).
@@ -179,31 +179,31 @@ ForceFailure ShellPatch::compute_forces() {
       const Type4Status st = type4_point_force(data, q, {b.n, b.index, b.basis}, membrane, r33_of(c), point_force_target(q));
       if (st != kType4Ok) cell_failed[c] = static_cast<unsigned char>(st);
     };
-    const size_t q_begin = r.begin() * points_per_cell_, q_end = r.end() * points_per_cell_;
+    const size_t q_begin = r.begin() * quad_.points_per_cell, q_end = r.end() * quad_.points_per_cell;
     if (!batched) {
       for (size_t q = q_begin; q < q_end; ++q)
         if (!cell_failed[cell_of(q)]) scalar_point(q);
     } else {
       Type4Batch batch;
-      batch.n = support_size_;
+      batch.n = quad_.support_size;
       Type4BatchResult result;
       // Batches of the fixed grouping (8 consecutive points); one that straddles the range's ends runs
       // only the lanes inside it.
       for (size_t first = q_begin - q_begin % kType4Lanes; first < q_end; first += kType4Lanes) {
-        batch.basis = &basis_lanes_[first / kType4Lanes * n * 5 * kType4Lanes];
+        batch.basis = &lanes_.basis[first / kType4Lanes * n * 5 * kType4Lanes];
         const size_t L = static_cast<size_t>(num_layers());
-        batch.ref_lanes = lane_ref ? &ref_lanes_[first / kType4Lanes * L * 4 * kType4Lanes] : nullptr;
-        batch.volume_lanes = lane_volume ? &volume_lanes_[first / kType4Lanes * L * kType4Lanes] : nullptr;
+        batch.ref_lanes = lane_ref ? &lanes_.ref[first / kType4Lanes * L * 4 * kType4Lanes] : nullptr;
+        batch.volume_lanes = lane_volume ? &lanes_.volume[first / kType4Lanes * L * kType4Lanes] : nullptr;
         size_t lane_cell[kType4Lanes];
-        assign_lanes(*this, point_slot_.data(), first, q_begin, q_end, batch, lane_cell);
+        assign_lanes(*this, cut_.point_slot.data(), first, q_begin, q_end, batch, lane_cell);
         if (!batch.active) continue;
         if (with_director)
           for (int i = 0; i < kType4Lanes; ++i) batch.r33[i] = r33_of(lane_cell[i]);
         type4_force_batch(data, batch, result);
-        scatter_batch(result, batch.active, lane_cell, n, cell_force_.data(), cell_failed.data());
+        scatter_batch(result, batch.active, lane_cell, n, gather_.cell_force.data(), cell_failed.data());
       }
       for (size_t q = q_begin; q < q_end; ++q)
-        if (point_slot_[q] >= 0 && !(mls_lanes && mls_batched_[q]) && !cell_failed[cell_of(q)]) scalar_point(q);
+        if (cut_.point_slot[q] >= 0 && !(mls_lanes && mls_lanes_.batched[q]) && !cell_failed[cell_of(q)]) scalar_point(q);
     }
     for (size_t c = r.begin(); c != r.end(); ++c)
       if (!cell_failed[c] && !add_shear_force(c)) cell_failed[c] = 2;
@@ -211,27 +211,27 @@ ForceFailure ShellPatch::compute_forces() {
 
   if (mls_lanes) mls_batch_forces(data, with_director, cell_failed);
 
-  for (size_t c = 0; c < num_cells_; ++c)
-    if (cell_failed[c]) return cell_failure(c, cell_failed[c], c * points_per_cell_, param_[c * points_per_cell_]);
-  gather_control_forces(gather_offsets_, gather_, cell_force_, mls_gather_offsets_, mls_gather_, slots_, force);
+  for (size_t c = 0; c < quad_.num_cells; ++c)
+    if (cell_failed[c]) return cell_failure(c, cell_failed[c], c * quad_.points_per_cell, quad_.param[c * quad_.points_per_cell]);
+  gather_control_forces(gather_.offsets, gather_.entries, gather_.cell_force, cut_.gather_offsets, cut_.gather, cut_.slots, force);
   return {};
 }
 
 void ShellPatch::mls_batch_forces(const Type4Data& data, bool with_director, std::vector<unsigned char>& cell_failed) {
   // Each lane writes only its own support's forces and its own point's state, so batches run in any
   // order and the forces do not depend on the threads; statuses are folded into the cells afterwards.
-  std::vector<int> status(mls_batches_.size() * kType4Lanes, kType4Ok);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, mls_batches_.size(), 4), [&](const tbb::blocked_range<size_t>& r) {
+  std::vector<int> status(mls_lanes_.batches.size() * kType4Lanes, kType4Ok);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, mls_lanes_.batches.size(), 4), [&](const tbb::blocked_range<size_t>& r) {
     Type4Batch batch;
     Type4BatchResult result;
     for (size_t b = r.begin(); b != r.end(); ++b) {
-      const MlsLaneBatch& mb = mls_batches_[b];
+      const MlsLaneBatch& mb = mls_lanes_.batches[b];
       batch.n = mb.n;
       batch.active = mb.active;
-      batch.basis = mls_lane_basis_.data() + 5 * mb.first;
+      batch.basis = mls_lanes_.basis.data() + 5 * mb.first;
       for (int i = 0; i < kType4Lanes; ++i) {
         batch.q[i] = mb.q[i];
-        batch.support[i] = mls_lane_support_.data() + mb.first + static_cast<size_t>(i * mb.n);
+        batch.support[i] = mls_lanes_.support.data() + mb.first + static_cast<size_t>(i * mb.n);
         batch.r33[i] = with_director ? director_stretch(cell_of(mb.q[i])) : 1.0;
       }
       type4_force_batch(data, batch, result);
@@ -239,14 +239,14 @@ void ShellPatch::mls_batch_forces(const Type4Data& data, bool with_director, std
         if (!((mb.active >> i) & 1u)) continue;
         status[b * kType4Lanes + static_cast<size_t>(i)] = result.status[i];
         if (result.status[i] != kType4Ok) continue;
-        std::vector<Vec3>& force = slots_[static_cast<size_t>(point_slot_[mb.q[i]])].force;
+        std::vector<Vec3>& force = cut_.slots[static_cast<size_t>(cut_.point_slot[mb.q[i]])].force;
         for (size_t s = 0; s < force.size(); ++s)
           force[s] = Vec3(result.force[s][0][i], result.force[s][1][i], result.force[s][2][i]);
       }
     }
   });
   for (size_t k = 0; k < status.size(); ++k)
-    if (status[k] != kType4Ok) cell_failed[cell_of(mls_batches_[k / kType4Lanes].q[k % kType4Lanes])] = static_cast<unsigned char>(status[k]);
+    if (status[k] != kType4Ok) cell_failed[cell_of(mls_lanes_.batches[k / kType4Lanes].q[k % kType4Lanes])] = static_cast<unsigned char>(status[k]);
 }
 
 bool ShellPatch::add_shear_force(size_t c) {
