@@ -6,7 +6,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "crack2d/crack_index.hpp"
@@ -46,11 +45,12 @@ struct CrackUpdate {
 };
 
 // The fallback basis of one point (stride kBasisStride: R, R_1, R_2, R_11, R_12, R_22 per support control
-// point) and the forces on its support control points from the last force pass.
+// point); the forces on its support control points from the last force pass are CrackBases::slot_force
+// from force_offset on, one per support control point.
 struct MlsSupport {
   std::vector<int> index;
   std::vector<double> basis;
-  std::vector<Vec3> force;
+  size_t force_offset = 0;
   double reach = 1.5;  // half-width in cells of the box whose cracks the basis depends on
   BasisLevel level = BasisLevel::Quadratic;
   int order = 2;                     // 1: linear basis, second derivatives zero (membrane only)
@@ -69,17 +69,25 @@ struct CrackBases {
   // Per control point / shear particle: non-zero when it takes part in a fallback basis (the particles
   // whose grid nodes get phantom copies, thesis sec. 4.7.1).
   std::vector<unsigned char> control_near_crack, shear_near_crack;
-  std::vector<int> gather_offsets;          // control point -> its entries of `gather`
-  std::vector<std::pair<int, int>> gather;  // (slot, support entry), in slot order
+  std::vector<unsigned char> cut_cells;  // per cell: some in-plane point of it has a fallback basis
+  // The slots' forces in one array, slot after slot (a slot's support entries contiguous), and per control
+  // point the entries of it that it sums, in slot order: control point i sums slot_force[gather[k]] for k
+  // in gather_offsets[i] .. gather_offsets[i + 1].
+  std::vector<Vec3> slot_force;
+  std::vector<int> gather_offsets;
+  std::vector<int> gather;
   size_t num_mls_points = 0;
+
+  Vec3* forces_of(const MlsSupport& m) { return slot_force.data() + m.force_offset; }
 };
 
 // Empty slots for a patch without cracks.
 CrackBases uncut_bases(size_t num_control_points, size_t num_points, size_t num_cells);
 
-// Rebuilds the control points' gather of slot forces and the near-crack flags from the slots: a fixed
-// summation order for the force pass.
-void rebuild_gather(CrackBases& cut);
+// Lays out the slots' forces and rebuilds the control points' gather of them (a fixed summation order for
+// the force pass), the near-crack flags and the cut cells (in-plane points grouped by cell, points_per_cell
+// to a cell).
+void rebuild_gather(CrackBases& cut, size_t points_per_cell);
 
 // MLS points with stress and curvature, sorted by support size and then by point, kType4Lanes to a batch
 // for the batched kernel (the last one padded with inactive lanes). A lane whose support is smaller than

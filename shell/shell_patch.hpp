@@ -184,6 +184,8 @@ class ShellPatch : public PatchParticles {
   // whose grid nodes get phantom copies, thesis sec. 4.7.1).
   const std::vector<unsigned char>& control_near_crack() const { return cut_.control_near_crack; }
   const std::vector<unsigned char>& shear_near_crack() const { return cut_.shear_near_crack; }
+  // Per cell: non-zero when some in-plane point of it has a fallback basis (point_level not Nurbs).
+  const std::vector<unsigned char>& cut_cells() const { return cut_.cut_cells; }
   // Current mid-surface point at parameter uv (render vertices, thesis sec. 4.9.3): NURBS, or, when the
   // crack separates uv from part of its NURBS support, the same fallback chain as the quadrature points,
   // so a vertex never averages across a crack. level == Removed: uv lies in a fragment without control

@@ -55,7 +55,6 @@ void merge_point_results(std::vector<PointResult>& results, size_t np, std::vect
     auto& m = slots[static_cast<size_t>(slot)];
     m.index = std::move(res.index);
     m.basis = std::move(res.basis);
-    m.force.assign(m.index.size(), Vec3::Zero());
     m.reach = res.fit.reach;
     m.level = res.fit.level;
     m.order = res.fit.order;
@@ -94,7 +93,6 @@ void ShellPatch::fill_support(const PointFit& fit, const MlsBasis& b, MlsSupport
       d[5] = b.R22[k];
     }
   }
-  out.force.assign(n, Vec3::Zero());
   out.reach = fit.reach;
   out.level = fit.level;
   out.order = fit.order;
@@ -173,7 +171,7 @@ CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t fi
   cut_.census = census;
   report.census = census;
   report.failures = census.failures;
-  rebuild_gather(cut_);
+  rebuild_gather(cut_, quad_.points_per_cell);
   build_mls_lanes();
   for (int32_t s : cut_.point_slot) report.mls_points += s >= 0 && cut_.slots[static_cast<size_t>(s)].level < BasisLevel::Rigid;
   for (int32_t s : cut_.shear_slot) report.mls_shear += s >= 0 && cut_.slots[static_cast<size_t>(s)].level < BasisLevel::Rigid;

@@ -162,20 +162,20 @@ void TransferShares::update(World& world, double intact, double active, const st
     const size_t per_cell = patch.num_cells() ? patch.num_inplane_points() / patch.num_cells() : 0;
     if (per_cell * patch.num_cells() != patch.num_inplane_points() || (per_cell && patch.cell_of(per_cell - 1) != 0))
       throw std::logic_error("TransferShares: a patch's quadrature points are not grouped by cell");
+    // 2: some layer point is damaged; 1: cut or plastic; 0: neither. Branch-free "any" over the cell's
+    // contiguous layer values, so the compiler can vectorise the scan.
+    const std::vector<unsigned char>& cut_cells = patch.cut_cells();
+    const size_t per_cell_values = per_cell * layers;
+    auto any_positive = [per_cell_values](const std::vector<double>& values, size_t c) {
+      if (values.empty()) return false;
+      const double* v = values.data() + c * per_cell_values;
+      bool any = false;
+      for (size_t k = 0; k < per_cell_values; ++k) any |= v[k] > 0;
+      return any;
+    };
     tbb::parallel_for(tbb::blocked_range<size_t>(0, patch.num_cells(), 64), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t c = r.begin(); c != r.end(); ++c) {
-        unsigned char cell = 0;
-        for (size_t q = c * per_cell; q < (c + 1) * per_cell && cell < 2; ++q) {
-          unsigned char hit = patch.point_level(q) != shell::BasisLevel::Nurbs;
-          for (size_t l = 0; l < layers && hit < 2; ++l) {
-            const size_t k = q * layers + l;
-            if (!damage.empty() && damage[k] > 0) hit = 2;
-            else if (!plastic.empty() && plastic[k] > 0) hit = 1;
-          }
-          cell = std::max(cell, hit);
-        }
-        cell_active_[c] = cell;
-      }
+      for (size_t c = r.begin(); c != r.end(); ++c)
+        cell_active_[c] = any_positive(damage, c) ? 2 : (cut_cells[c] || any_positive(plastic, c)) ? 1 : 0;
     });
     const std::vector<unsigned char>& control_near = patch.control_near_crack();
     tbb::parallel_for(tbb::blocked_range<size_t>(0, control.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
