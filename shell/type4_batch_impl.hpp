@@ -5,7 +5,7 @@
 //
 // Differences from the scalar reference are round-off only: ln and e^x are the lane versions of
 // simd_lanes.hpp (a few ulp), products may be fused, the condensed fibre stretch iterates on its logarithm
-// (lane_log_fibre_stretch), and the von Mises return runs the scalar code for the lanes whose trial stress
+// (lane_log_fibre_stretches), and the von Mises return runs the scalar code for the lanes whose trial stress
 // is within 1e-8 of the yield surface or beyond it.
 
 #include "shell/simd_lanes.hpp"
@@ -29,71 +29,130 @@ struct LaneStress {
   LaneMask ok;
 };
 
-// Condensed fibre stretch (condensed_fibre_stretch): the same root of mu (l^2 - 1) + lambda ln(J l) = 0,
-// found by Newton on s = ln l instead of l, h(s) = mu (e^{2s} - 1) + lambda (s + ln J), which is convex and
-// increasing: one e^x and one division per iteration instead of a logarithm and two divisions, and ln(J l)
-// = ln J + s for the pressure needs no further logarithm. Start: the root's expansion to second order in
-// x = ln J, s = a x + b x^2 with a = -lambda/(2 mu + lambda), b = -2 mu a^2/(2 mu + lambda). A lane stops
-// after the step that moved it by at most 1e-8: the Newton error is then below (h''/2h') 1e-16 <= 1e-16
-// (h''/2h' = 2 mu e^{2s}/(2 mu e^{2s} + lambda) <= 1), the scalar loop's 1e-15 relative. Returns s = ln l3;
-// l3_sq: the last iteration's e^{2s}, which is l3^2 to within |2 step| <= 2e-8 for a lane that settled in it
-// and to the ulp for one that settled earlier (its s no longer moved); NaN for a lane that never settled.
-SF_INLINE Lanes lane_log_fibre_stretch(const Lanes& lnJ, double mu, double lambda, Lanes& l3_sq) {
+// Condensed fibre stretch (condensed_fibre_stretch) of each of the L layers of a point: the same root of
+// mu (l^2 - 1) + lambda ln(J l) = 0, found by Newton on s = ln l instead of l, h(s) = mu (e^{2s} - 1) +
+// lambda (s + ln J), which is convex and increasing: one e^x and one division per iteration instead of a
+// logarithm and two divisions, and ln(J l) = ln J + s for the pressure needs no further logarithm. Start:
+// the root's expansion to second order in x = ln J, s = a x + b x^2 with a = -lambda/(2 mu + lambda),
+// b = -2 mu a^2/(2 mu + lambda). A lane stops after the step that moved it by at most 1e-8: the Newton error
+// is then below (h''/2h') 1e-16 <= 1e-16 (h''/2h' = 2 mu e^{2s}/(2 mu e^{2s} + lambda) <= 1), the scalar
+// loop's 1e-15 relative. Writes s = ln l3 per layer, and l3_sq: the layer's last iteration's e^{2s}, which
+// is l3^2 to within |2 step| <= 2e-8 for a lane that settled in it and to the ulp for one that settled
+// earlier (its s no longer moved); NaN for a lane that never settled.
+//
+// The layers' Newton chains are independent, so one pass over the layers per iteration lets the core
+// overlap them, where a layer alone waits on its e^x and division. A layer stops iterating when all its
+// lanes are done, as it would in a loop of its own, so its results do not depend on the other layers.
+struct LaneNewton {
+  Lanes s, e2s;
+  LaneMask done;
+  bool settled = false;  // every lane done: this layer takes no further iteration
+};
+template <size_t L>
+SF_INLINE void lane_log_fibre_stretches(const Lanes* lnJ, double mu, double lambda, Lanes* s_out, Lanes* l3_sq) {
   const double a = -lambda / (2.0 * mu + lambda), b = -2.0 * mu * a * a / (2.0 * mu + lambda);
-  Lanes s = lnJ * (a + b * lnJ);
-  LaneMask done = splat_int(0);
-  Lanes e2s;
-  for (int it = 0; it < 30; ++it) {
-    e2s = vexp(2.0 * s);
-    const Lanes h = mu * (e2s - 1.0) + lambda * (s + lnJ);
-    const Lanes step = h / ((2.0 * mu) * e2s + lambda);
-    s = select(done, s, s - step);
-    done = done | (vabs(step) <= 1e-8);
-    if (all(done)) break;
+  LaneNewton n[L];
+  for (size_t l = 0; l < L; ++l) {
+    n[l].s = lnJ[l] * (a + b * lnJ[l]);
+    n[l].done = splat_int(0);
   }
-  l3_sq = select(done, e2s, splat(__builtin_nan("")));
-  return s;
+  for (int it = 0; it < 30; ++it) {
+    bool all_settled = true;
+    for (size_t l = 0; l < L; ++l) {
+      LaneNewton& w = n[l];
+      if (w.settled) continue;
+      w.e2s = vexp(2.0 * w.s);
+      const Lanes h = mu * (w.e2s - 1.0) + lambda * (w.s + lnJ[l]);
+      const Lanes step = h / ((2.0 * mu) * w.e2s + lambda);
+      w.s = select(w.done, w.s, w.s - step);
+      w.done = w.done | (vabs(step) <= 1e-8);
+      w.settled = all(w.done);
+      all_settled = all_settled && w.settled;
+    }
+    if (all_settled) break;
+  }
+  for (size_t l = 0; l < L; ++l) {
+    s_out[l] = n[l].s;
+    l3_sq[l] = select(n[l].done, n[l].e2s, splat(__builtin_nan("")));
+  }
 }
 
-// ref: g11, g12, g22 of the rest metric and 1 / sqrt of its determinant.
-SF_INLINE LaneStress lane_in_plane_stress(const Lanes3& g1, const Lanes3& g2, const Lanes ref[4], double mu,
-                                          double lambda, shellfrac::shell::TransverseModel model, Lanes given) {
-  using shellfrac::shell::TransverseModel;
-  LaneStress s;
+// The same for a layer count known only at run time (the layer rules have 1 or 3; the batched kernel takes up
+// to kType4MaxLayers): a fixed count lets the compiler keep every layer's Newton state in registers.
+SF_INLINE void lane_log_fibre_stretches(const Lanes* lnJ, size_t L, double mu, double lambda, Lanes* s_out,
+                                        Lanes* l3_sq) {
+  switch (L) {
+    case 1: return lane_log_fibre_stretches<1>(lnJ, mu, lambda, s_out, l3_sq);
+    case 2: return lane_log_fibre_stretches<2>(lnJ, mu, lambda, s_out, l3_sq);
+    case 3: return lane_log_fibre_stretches<3>(lnJ, mu, lambda, s_out, l3_sq);
+    default: return lane_log_fibre_stretches<shellfrac::shell::kType4MaxLayers>(lnJ, mu, lambda, s_out, l3_sq);
+  }
+}
+
+// The metric part of the in-plane stress, before the fibre stretch: the deformed metric's inverse, J and
+// ln J. ref: g11, g12, g22 of the rest metric and 1 / sqrt of its determinant.
+struct LaneMetric {
+  Lanes i11, i12, i22;  // deformed g^{ab}
+  Lanes J, Jsafe, lnJ;
+  LaneMask ok;
+};
+SF_INLINE LaneMetric lane_metric(const Lanes3& g1, const Lanes3& g2, const Lanes ref[4]) {
+  LaneMetric m;
   const Lanes c11 = dot(g1, g1), c12 = dot(g1, g2), c22 = dot(g2, g2);
   const Lanes det = c11 * c22 - c12 * c12;
-  s.J = vsqrt(det) * ref[3];  // ref[3]: 1 / sqrt(det of the rest metric), stored inverted
+  m.J = vsqrt(det) * ref[3];  // ref[3]: 1 / sqrt(det of the rest metric), stored inverted
   // det > 0, J > 0 and finite (the scalar checks); NaN fails every comparison.
-  s.ok = (det > 0.0) & (s.J > 0.0) & (s.J < __builtin_inf());
-  const Lanes Jsafe = select(s.ok, s.J, splat(1.0));  // keep masked lanes finite in the iterations
+  m.ok = (det > 0.0) & (m.J > 0.0) & (m.J < __builtin_inf());
+  m.Jsafe = select(m.ok, m.J, splat(1.0));  // keep masked lanes finite in the iterations
   const Lanes inv = 1.0 / det;
-  const Lanes i11 = c22 * inv, i12 = -c12 * inv, i22 = c11 * inv;  // deformed g^{ab}
-  const Lanes lnJ = vlog(Jsafe);
-  s.lnJ = lnJ;
+  m.i11 = c22 * inv;
+  m.i12 = -c12 * inv;
+  m.i22 = c11 * inv;
+  m.lnJ = vlog(m.Jsafe);
+  return m;
+}
+
+// The in-plane Neo-Hookean Kirchhoff stress from the metric part and, for the condensed model, the fibre
+// stretch's logarithm ln_l3 and square l3_sq (lane_log_fibre_stretches).
+SF_INLINE LaneStress lane_stress_of(const LaneMetric& m, const Lanes ref[4], double mu, double lambda,
+                                    shellfrac::shell::TransverseModel model, Lanes given, Lanes ln_l3, Lanes l3_sq) {
+  using shellfrac::shell::TransverseModel;
+  LaneStress s;
+  s.J = m.J;
+  s.ok = m.ok;
+  s.lnJ = m.lnJ;
   Lanes ln_detF;  // ln(J lambda_3)
   switch (model) {
-    case TransverseModel::Condensed: {
-      const Lanes ln_l3 = lane_log_fibre_stretch(lnJ, mu, lambda, s.lambda3_sq);
+    case TransverseModel::Condensed:
       s.ln_lambda3 = ln_l3;
-      ln_detF = lnJ + ln_l3;
+      s.lambda3_sq = l3_sq;
+      ln_detF = m.lnJ + ln_l3;
       break;
-    }
     case TransverseModel::Given:
       s.ln_lambda3 = splat(0.0);  // unused: the damage criterion takes `given` itself
       s.lambda3_sq = select(given > 0.0, given * given, splat(__builtin_nan("")));
-      ln_detF = vlog(Jsafe * given);
+      ln_detF = vlog(m.Jsafe * given);
       break;
     case TransverseModel::Rigid:
       s.ln_lambda3 = splat(0.0);
       s.lambda3_sq = splat(1.0);
-      ln_detF = lnJ;
+      ln_detF = m.lnJ;
       break;
   }
   const Lanes p = lambda * ln_detF;
-  s.t11 = mu * (ref[0] - i11) + p * i11;
-  s.t12 = mu * (ref[1] - i12) + p * i12;
-  s.t22 = mu * (ref[2] - i22) + p * i22;
+  s.t11 = mu * (ref[0] - m.i11) + p * m.i11;
+  s.t12 = mu * (ref[1] - m.i12) + p * m.i12;
+  s.t22 = mu * (ref[2] - m.i22) + p * m.i22;
   return s;
+}
+
+// Metric invariants and the in-plane Neo-Hookean Kirchhoff stress of one layer (neo_hookean_in_plane).
+SF_INLINE LaneStress lane_in_plane_stress(const Lanes3& g1, const Lanes3& g2, const Lanes ref[4], double mu,
+                                          double lambda, shellfrac::shell::TransverseModel model, Lanes given) {
+  const LaneMetric m = lane_metric(g1, g2, ref);
+  Lanes ln_l3 = splat(0.0), l3_sq = splat(0.0);
+  if (model == shellfrac::shell::TransverseModel::Condensed) lane_log_fibre_stretches(&m.lnJ, 1, mu, lambda, &ln_l3, &l3_sq);
+  return lane_stress_of(m, ref, mu, lambda, model, given, ln_l3, l3_sq);
 }
 
 // Orthonormal in-plane frame e_1 = g_1/|g_1| (damage.cpp): E = [[e11, e12], [0, e22]].
@@ -363,18 +422,30 @@ SF_INLINE void lane_group(const shellfrac::shell::Type4Data& d, const shellfrac:
   }
   Lanes3 K1 = zero3(), K2 = zero3(), C1 = zero3(), C2 = zero3();
   Lanes c_new[kType4MaxLayers];  // damage per layer, written back below
+  // Every layer's metric first, then their fibre stretches in one Newton loop (independent chains that the
+  // core can overlap), then stress, damage and forces layer by layer.
+  Lanes ref[kType4MaxLayers][4];
+  LaneMetric metric[kType4MaxLayers];
+  Lanes lnJ[kType4MaxLayers], ln_l3[kType4MaxLayers], l3_sq[kType4MaxLayers];
+  for (size_t l = 0; l < L; ++l) {
+    const double xi3 = d.mid_surface ? 0.0 : d.xi3[l];
+    lane_reference(g, d.mid_surface ? L / 2 : l, ref[l]);
+    metric[l] = lane_metric(j.a1 + xi3 * j.dn1, j.a2 + xi3 * j.dn2, ref[l]);
+    lnJ[l] = metric[l].lnJ;
+    ln_l3[l] = l3_sq[l] = splat(0.0);
+  }
+  if (d.model == TransverseModel::Condensed) lane_log_fibre_stretches(lnJ, L, d.mu, d.lambda, ln_l3, l3_sq);
   for (size_t l = 0; l < L; ++l) {
     const double xi3 = d.mid_surface ? 0.0 : d.xi3[l];
     const size_t lref = d.mid_surface ? L / 2 : l;
-    Lanes ref[4], V;
-    lane_reference(g, lref, ref);
+    Lanes V;
     if (b.volume_lanes)
       __builtin_memcpy(&V, b.volume_lanes + l * kType4Lanes + o, sizeof(Lanes));
     else
       V = gather([&](int i) { return d.volume[g.q[i] * L + l]; });
     const Lanes3 g1 = j.a1 + xi3 * j.dn1, g2 = j.a2 + xi3 * j.dn2;
-    LaneStress st = lane_in_plane_stress(g1, g2, ref, d.mu, d.lambda, d.model, given);
-    if (d.plastic) lane_plastic_return(g, l, lref, g1, g2, given, failed, ref, st);
+    LaneStress st = lane_stress_of(metric[l], ref[l], d.mu, d.lambda, d.model, given, ln_l3[l], l3_sq[l]);
+    if (d.plastic) lane_plastic_return(g, l, lref, g1, g2, given, failed, ref[l], st);
     // The first failing layer decides a lane's status, as the scalar loop returns there.
     const LaneMask undecided = ~(failed | runaway);
     failed = failed | (undecided & ~st.ok);
