@@ -1,7 +1,7 @@
 #pragma once
 // The bases of the points a crack cut off from part of their NURBS support (thesis sec. 4.6, docs/mls.md):
 // per point a slot with its fallback basis, the census of levels, the crack portals for fragment paths,
-// and the gather of those points' forces onto the control points.
+// and which control points, shear particles and cells a crack touches.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -45,7 +45,7 @@ struct CrackUpdate {
 };
 
 // The fallback basis of one point (stride kBasisStride: R, R_1, R_2, R_11, R_12, R_22 per support control
-// point); the forces on its support control points from the last force pass are CrackBases::slot_force
+// point); the forces on its support control points from the last force pass are ForceGather::slot_force
 // from force_offset on, one per support control point.
 struct MlsSupport {
   std::vector<int> index;
@@ -70,24 +70,15 @@ struct CrackBases {
   // whose grid nodes get phantom copies, thesis sec. 4.7.1).
   std::vector<unsigned char> control_near_crack, shear_near_crack;
   std::vector<unsigned char> cut_cells;  // per cell: some in-plane point of it has a fallback basis
-  // The slots' forces in one array, slot after slot (a slot's support entries contiguous), and per control
-  // point the entries of it that it sums, in slot order: control point i sums slot_force[gather[k]] for k
-  // in gather_offsets[i] .. gather_offsets[i + 1].
-  std::vector<Vec3> slot_force;
-  std::vector<int> gather_offsets;
-  std::vector<int> gather;
   size_t num_mls_points = 0;
-
-  Vec3* forces_of(const MlsSupport& m) { return slot_force.data() + m.force_offset; }
 };
 
 // Empty slots for a patch without cracks.
 CrackBases uncut_bases(size_t num_control_points, size_t num_points, size_t num_cells);
 
-// Lays out the slots' forces and rebuilds the control points' gather of them (a fixed summation order for
-// the force pass), the near-crack flags and the cut cells (in-plane points grouped by cell, points_per_cell
-// to a cell).
-void rebuild_gather(CrackBases& cut, size_t points_per_cell);
+// Rebuilds the near-crack flags and the cut cells from the slots (in-plane points grouped by cell,
+// points_per_cell to a cell).
+void mark_near_crack(CrackBases& cut, size_t points_per_cell);
 
 // MLS points with stress and curvature, sorted by support size and then by point, kType4Lanes to a batch
 // for the batched kernel (the last one padded with inactive lanes). A lane whose support is smaller than

@@ -117,13 +117,13 @@ ShellPatch::BasisView ShellPatch::shear_basis(size_t c) const {
 
 Vec3* ShellPatch::shear_force_target(size_t c) {
   const int32_t slot = cut_.shear_slot[c];
-  if (slot >= 0) return cut_.forces_of(cut_.slots[static_cast<size_t>(slot)]);
+  if (slot >= 0) return gather_.forces_of(cut_.slots[static_cast<size_t>(slot)]);
   return &gather_.cell_force[c * static_cast<size_t>(quad_.support_size)];
 }
 
 Vec3* ShellPatch::point_force_target(size_t q) {
   const int32_t slot = cut_.point_slot[q];
-  if (slot >= 0) return cut_.forces_of(cut_.slots[static_cast<size_t>(slot)]);
+  if (slot >= 0) return gather_.forces_of(cut_.slots[static_cast<size_t>(slot)]);
   return &gather_.cell_force[cell_of(q) * static_cast<size_t>(quad_.support_size)];
 }
 

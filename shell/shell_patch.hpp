@@ -296,10 +296,10 @@ class ShellPatch : public PatchParticles {
   PatchQuadrature quad_;        // Type IV points, their NURBS bases, rest metrics and volumes
   BasisLanes lanes_;            // the same in the batched kernel's lane order
   PointMaterialState state_;    // plastic strain, damage and its history, per-point strength
-  CrackBases cut_;              // fallback bases of the points a crack cut off, their census and gather
+  CrackBases cut_;              // fallback bases of the points a crack cut off, their census, near-crack flags
   MlsLanes mls_lanes_;          // the fallback-basis points the batched kernel takes, in lanes
   StepStiffness stiffness_;     // basis stiffness for the step bound, and the added mass
-  ForceGather gather_;          // per-cell force slots and their fixed-order gather
+  ForceGather gather_;          // per-cell and per-slot force slots and their fixed-order gather
   ForceKernel force_kernel_ = ForceKernel::Batched;
 };
 

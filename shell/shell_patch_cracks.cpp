@@ -171,7 +171,8 @@ CrackUpdate ShellPatch::update_crack(const crack2d::CrackIndex& index, size_t fi
   cut_.census = census;
   report.census = census;
   report.failures = census.failures;
-  rebuild_gather(cut_, quad_.points_per_cell);
+  mark_near_crack(cut_, quad_.points_per_cell);
+  lay_out_slot_forces(cut_.slots, gather_);
   build_mls_lanes();
   for (int32_t s : cut_.point_slot) report.mls_points += s >= 0 && cut_.slots[static_cast<size_t>(s)].level < BasisLevel::Rigid;
   for (int32_t s : cut_.shear_slot) report.mls_shear += s >= 0 && cut_.slots[static_cast<size_t>(s)].level < BasisLevel::Rigid;

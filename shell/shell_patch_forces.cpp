@@ -35,14 +35,13 @@ void assign_lanes(const ShellPatch& patch, const int32_t* point_slot, size_t fir
 
 // Each control point's force: its cell slots, then its fallback bases' slots, in a fixed order, so the sum
 // does not depend on the threads.
-void gather_control_forces(const ForceGather& cells, const CrackBases& cut, std::vector<Vec3>& force) {
+void gather_control_forces(const ForceGather& g, std::vector<Vec3>& force) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, force.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       Vec3 f = Vec3::Zero();
-      for (int k = cells.offsets[i]; k < cells.offsets[i + 1]; ++k)
-        f += cells.cell_force[static_cast<size_t>(cells.entries[static_cast<size_t>(k)])];
-      for (int k = cut.gather_offsets[i]; k < cut.gather_offsets[i + 1]; ++k)
-        f += cut.slot_force[static_cast<size_t>(cut.gather[static_cast<size_t>(k)])];
+      for (int k = g.offsets[i]; k < g.offsets[i + 1]; ++k) f += g.cell_force[static_cast<size_t>(g.entries[static_cast<size_t>(k)])];
+      for (int k = g.slot_offsets[i]; k < g.slot_offsets[i + 1]; ++k)
+        f += g.slot_force[static_cast<size_t>(g.slot_entries[static_cast<size_t>(k)])];
       force[i] = f;
     }
   });
@@ -141,7 +140,7 @@ ForceFailure ShellPatch::compute_forces() {
   const bool mls_lanes = batched && force_kernel_ != ForceKernel::BatchedScalarMls;
   const size_t n = static_cast<size_t>(quad_.support_size);
   std::vector<unsigned char> cell_failed(quad_.num_cells, 0);
-  std::fill(cut_.slot_force.begin(), cut_.slot_force.end(), Vec3::Zero());
+  std::fill(gather_.slot_force.begin(), gather_.slot_force.end(), Vec3::Zero());
 
   // Per cell: the Type IV forces of its points (cell slots for NURBS points, MLS supports' own slots
   // otherwise), then its Type III force. Each cell's slots are summed in point order, whichever kernel runs,
@@ -207,7 +206,7 @@ ForceFailure ShellPatch::compute_forces() {
 
   for (size_t c = 0; c < quad_.num_cells; ++c)
     if (cell_failed[c]) return cell_failure(c, cell_failed[c], c * quad_.points_per_cell, quad_.param[c * quad_.points_per_cell]);
-  gather_control_forces(gather_, cut_, force);
+  gather_control_forces(gather_, force);
   return {};
 }
 
@@ -234,7 +233,7 @@ void ShellPatch::mls_batch_forces(const Type4Data& data, bool with_director, std
         status[b * kType4Lanes + static_cast<size_t>(i)] = result.status[i];
         if (result.status[i] != kType4Ok) continue;
         const MlsSupport& m = cut_.slots[static_cast<size_t>(cut_.point_slot[mb.q[i]])];
-        Vec3* force = cut_.forces_of(m);
+        Vec3* force = gather_.forces_of(m);
         for (size_t s = 0; s < m.index.size(); ++s)
           force[s] = Vec3(result.force[s][0][i], result.force[s][1][i], result.force[s][2][i]);
       }
