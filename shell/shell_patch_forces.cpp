@@ -135,7 +135,7 @@ ForceFailure ShellPatch::compute_forces() {
   const bool with_director = material_.stress_model == StressModel::DirectorF2D;
   const bool batched = force_kernel_ != ForceKernel::Scalar && num_layers() <= kType4MaxLayers;
   const bool lane_volume = force_kernel_ == ForceKernel::Batched || force_kernel_ == ForceKernel::BatchedScalarMls;
-  // A plastic patch's rest metric changes, so its lanes are gathered from quad_.ref (build_basis_lanes).
+  // A plastic patch's rest metric changes, so its lanes are gathered from quad_.ref (lay_out_basis_lanes).
   const bool lane_ref = lane_volume && !material_.plasticity.enabled;
   const bool mls_lanes = batched && force_kernel_ != ForceKernel::BatchedScalarMls;
   const size_t n = static_cast<size_t>(quad_.support_size);
