@@ -2,16 +2,35 @@
 
 namespace shellfrac::shell {
 
+namespace {
+
+// Groups entries by control point: visit(emit) calls emit(control point, entry) for every entry, in the
+// order the gather must sum them; afterwards control point i's entries are entries[offsets[i] ..
+// offsets[i + 1]), in that order.
+template <class Visit>
+void group_by_control_point(size_t num_control_points, Visit visit, std::vector<int>& offsets,
+                            std::vector<int>& entries) {
+  offsets.assign(num_control_points + 1, 0);
+  visit([&](int control_point, int) { ++offsets[static_cast<size_t>(control_point) + 1]; });
+  for (size_t i = 0; i < num_control_points; ++i) offsets[i + 1] += offsets[i];
+  entries.resize(static_cast<size_t>(offsets.back()));
+  std::vector<int> cursor(offsets.begin(), offsets.end() - 1);
+  visit([&](int control_point, int entry) {
+    entries[static_cast<size_t>(cursor[static_cast<size_t>(control_point)]++)] = entry;
+  });
+}
+
+}  // namespace
+
 ForceGather make_force_gather(const std::vector<int>& support, size_t num_control_points) {
   ForceGather out;
   out.cell_force.assign(support.size(), Vec3::Zero());
-  out.offsets.assign(num_control_points + 1, 0);
-  for (int c : support) ++out.offsets[static_cast<size_t>(c) + 1];
-  for (size_t i = 0; i < num_control_points; ++i) out.offsets[i + 1] += out.offsets[i];
-  out.entries.resize(support.size());
-  std::vector<int> cursor(out.offsets.begin(), out.offsets.end() - 1);
-  for (size_t k = 0; k < support.size(); ++k)
-    out.entries[static_cast<size_t>(cursor[static_cast<size_t>(support[k])]++)] = static_cast<int>(k);
+  group_by_control_point(
+      num_control_points,
+      [&](auto emit) {
+        for (size_t k = 0; k < support.size(); ++k) emit(support[k], static_cast<int>(k));
+      },
+      out.offsets, out.entries);
   out.slot_offsets.assign(num_control_points + 1, 0);
   return out;
 }
@@ -23,17 +42,13 @@ void lay_out_slot_forces(std::vector<MlsSupport>& slots, ForceGather& gather) {
     entries += m.index.size();
   }
   gather.slot_force.assign(entries, Vec3::Zero());
-  std::vector<int>& offsets = gather.slot_offsets;
-  std::fill(offsets.begin(), offsets.end(), 0);
-  for (const MlsSupport& m : slots)
-    for (int k : m.index) ++offsets[static_cast<size_t>(k) + 1];
-  for (size_t i = 0; i + 1 < offsets.size(); ++i) offsets[i + 1] += offsets[i];
-  gather.slot_entries.resize(static_cast<size_t>(offsets.back()));
-  std::vector<int> cursor(offsets.begin(), offsets.end() - 1);
-  for (const MlsSupport& m : slots)
-    for (size_t e = 0; e < m.index.size(); ++e)
-      gather.slot_entries[static_cast<size_t>(cursor[static_cast<size_t>(m.index[e])]++)] =
-          static_cast<int>(m.force_offset + e);
+  group_by_control_point(
+      gather.offsets.size() - 1,
+      [&](auto emit) {
+        for (const MlsSupport& m : slots)
+          for (size_t e = 0; e < m.index.size(); ++e) emit(m.index[e], static_cast<int>(m.force_offset + e));
+      },
+      gather.slot_offsets, gather.slot_entries);
 }
 
 }  // namespace shellfrac::shell

@@ -443,6 +443,8 @@ SF_INLINE void lane_group(const shellfrac::shell::Type4Data& d, const shellfrac:
       __builtin_memcpy(&V, b.volume_lanes + l * kType4Lanes + o, sizeof(Lanes));
     else
       V = gather([&](int i) { return d.volume[g.q[i] * L + l]; });
+    // g_1, g_2 again rather than kept per layer since the metric pass: six multiply-adds against registers
+    // held across the Newton loop.
     const Lanes3 g1 = j.a1 + xi3 * j.dn1, g2 = j.a2 + xi3 * j.dn2;
     LaneStress st = lane_stress_of(metric[l], ref[l], d.mu, d.lambda, d.model, given, ln_l3[l], l3_sq[l]);
     if (d.plastic) lane_plastic_return(g, l, lref, g1, g2, given, failed, ref[l], st);
